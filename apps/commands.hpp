@@ -1,0 +1,14 @@
+// The subcommands of the isoquad command line. Each registers its options on the CLI11 app and
+// returns the function that runs it (returning the exit status).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace isoquad::cli {
+
+using Runner = std::function<int()>;
+
+Runner add_info(CLI::App& app);
+
+}  // namespace isoquad::cli

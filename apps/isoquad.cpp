@@ -1,0 +1,36 @@
+// isoquad: the command line, a thin shell over the library. Only this layer prints and exits.
+#include <cstdio>
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "isoquad/error.hpp"
+#include "isoquad/version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"isoquad: triangle mesh to pure quad mesh by temperature contours"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("isoquad ") + isoquad::version());
+  std::vector<std::pair<CLI::App*, isoquad::cli::Runner>> commands;
+  auto add = [&](auto adder) {
+    const std::size_t before = app.get_subcommands({}).size();
+    isoquad::cli::Runner run = adder(app);
+    commands.push_back({app.get_subcommands({}).at(before), std::move(run)});
+  };
+  add(isoquad::cli::add_info);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    for (auto& [sub, run] : commands)
+      if (sub->parsed()) return run();
+  } catch (const isoquad::Error& e) {
+    std::fprintf(stderr, "isoquad: error: %s\n", e.what());
+    return e.exit_status();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "isoquad: internal error: %s\n", e.what());
+    return static_cast<int>(isoquad::ErrorKind::internal);
+  }
+  return 0;
+}

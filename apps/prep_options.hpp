@@ -1,0 +1,44 @@
+// Input options shared by every subcommand that reads a mesh.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "io/read_mesh.hpp"
+#include "prep/prepare.hpp"
+
+namespace isoquad::cli {
+
+struct PrepArgs {
+  bool repair = false;
+  double weld_eps = 0.0;
+  uint32_t min_component_faces = 10;
+  double feature_angle = 60.0;
+
+  ReadOptions read_options() const { return {.drop_degenerate_faces = repair}; }
+  PrepOptions prep_options(const ReadResult& read) const {
+    PrepOptions o;
+    o.repair = repair;
+    o.weld_all = read.unshared_vertices;
+    o.weld_epsilon = weld_eps;
+    o.min_component_faces = min_component_faces;
+    o.feature_angle_deg = feature_angle;
+    return o;
+  }
+};
+
+inline void add_prep_options(CLI::App& sub, PrepArgs& a) {
+  sub.add_flag("--repair", a.repair,
+               "Detach non-manifold edges and drop faces with fewer than 3 distinct vertices "
+               "instead of rejecting the input");
+  sub.add_option("--weld-eps", a.weld_eps,
+                 "Weld boundary vertices closer than this fraction of the bounding-box diagonal")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
+  sub.add_option("--min-component-faces", a.min_component_faces,
+                 "Drop connected components with fewer faces (with a warning)")
+      ->capture_default_str();
+  sub.add_option("--feature-angle", a.feature_angle,
+                 "Dihedral angle in degrees above which an edge is a feature (0: none)")
+      ->capture_default_str()->check(CLI::Range(0.0, 180.0));
+}
+
+}  // namespace isoquad::cli

@@ -1,0 +1,6 @@
+#pragma once
+
+namespace isoquad {
+// The library version, "MAJOR.MINOR.PATCH".
+const char* version();
+}  // namespace isoquad

@@ -1,0 +1,55 @@
+#include "io/report_json.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace isoquad {
+
+namespace {
+const char* severity_name(InputIssue::Severity s) {
+  switch (s) {
+    case InputIssue::Severity::error: return "error";
+    case InputIssue::Severity::repaired: return "repaired";
+    case InputIssue::Severity::warning: return "warning";
+  }
+  return "?";
+}
+}  // namespace
+
+void to_json(nlohmann::json& j, const ComponentReport& r) {
+  j = {{"vertices", r.vertices},       {"edges", r.edges},
+       {"faces", r.faces},             {"boundary_loops", r.boundary_loops},
+       {"euler_characteristic", r.euler}, {"genus", r.genus},
+       {"orientable", r.orientable},   {"closed", r.boundary_loops == 0},
+       {"kept", r.kept},               {"area", r.area},
+       {"feature_edges", r.feature_edges}, {"min_angle_deg", r.min_angle_deg},
+       {"zero_area_faces", r.zero_area_faces}};
+}
+
+void to_json(nlohmann::json& j, const InputReport& r) {
+  nlohmann::json issues = nlohmann::json::array();
+  for (const InputIssue& i : r.issues)
+    issues.push_back({{"severity", severity_name(i.severity)}, {"code", i.code}, {"message", i.message},
+                      {"count", i.count}});
+  j = {{"input_vertices", r.input_vertices},
+       {"input_faces", r.input_faces},
+       {"input_polygons", r.input_polygons},
+       {"welded_vertices", r.welded_vertices},
+       {"unused_vertices", r.unused_vertices},
+       {"degenerate_faces", r.degenerate_faces},
+       {"duplicate_faces", r.duplicate_faces},
+       {"non_manifold_edges", r.non_manifold_edges},
+       {"split_vertices", r.split_vertices},
+       {"flipped_faces", r.flipped_faces},
+       {"removed_faces", r.removed_faces},
+       {"manifold", r.non_manifold_edges == 0 && r.split_vertices == 0},
+       {"orientable", r.orientable},
+       {"bounding_box",
+        {{"min", {r.bounding_box.lo.x, r.bounding_box.lo.y, r.bounding_box.lo.z}},
+         {"max", {r.bounding_box.hi.x, r.bounding_box.hi.y, r.bounding_box.hi.z}},
+         {"diagonal", r.bounding_box.diagonal()}}},
+       {"components", r.components},
+       {"issues", issues},
+       {"remesh_would_accept", !r.has_errors()}};
+}
+
+}  // namespace isoquad

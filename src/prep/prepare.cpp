@@ -1,0 +1,160 @@
+#include "prep/prepare.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <numbers>
+
+#include "isoquad/error.hpp"
+#include "prep/steps.hpp"
+
+namespace isoquad {
+
+bool InputReport::has_errors() const {
+  return std::any_of(issues.begin(), issues.end(),
+                     [](const InputIssue& i) { return i.severity == InputIssue::Severity::error; });
+}
+
+namespace {
+
+using Severity = InputIssue::Severity;
+
+void note(InputReport& r, Severity severity, const char* code, uint32_t count, const std::string& msg) {
+  if (count > 0) r.issues.push_back({severity, code, msg, count});
+}
+
+[[noreturn]] void reject(ErrorKind kind, const char* code, const std::string& msg,
+                         std::vector<uint32_t> vertices = {}) {
+  ErrorContext ctx;
+  ctx.vertices = std::move(vertices);
+  throw Error(kind, code, msg, ctx);
+}
+
+// Angle and area statistics of a kept component, in its normalized coordinates.
+void shape_statistics(const TriMesh& m, double scale, ComponentReport& r) {
+  double min_angle = std::numbers::pi;
+  double area = 0;
+  for (uint32_t f = 0; f < m.num_faces(); ++f) {
+    const double a = m.face_area(f);
+    area += a;
+    if (a < 1e-14) ++r.zero_area_faces;  // the mesh fits a unit-diagonal box
+    const Tri& t = m.face(f);
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 u = m.position(t[(i + 1) % 3]) - m.position(t[i]);
+      const Vec3 v = m.position(t[(i + 2) % 3]) - m.position(t[i]);
+      min_angle = std::min(min_angle, std::atan2(norm(cross(u, v)), dot(u, v)));
+    }
+  }
+  r.area = area / (scale * scale);
+  r.min_angle_deg = min_angle * 180.0 / std::numbers::pi;
+}
+
+}  // namespace
+
+PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
+  PreparedMesh out;
+  InputReport& report = out.report;
+  report.input_vertices = uint32_t(soup.num_vertices());
+  report.input_faces = uint32_t(soup.num_faces());
+  for (std::size_t f = 0; f < soup.num_faces(); ++f)
+    if (soup.face(f).size() > 3) ++report.input_polygons;
+  for (const Vec3& p : soup.positions) report.bounding_box.add(p);
+
+  const double weld_eps = options.weld_epsilon * report.bounding_box.diagonal();
+  const auto weld = prep::weld_map(soup, options.weld_all, weld_eps, report.welded_vertices);
+  prep::Soup s = prep::triangulate(soup, weld, report);
+  note(report, Severity::repaired, "W104", report.welded_vertices,
+       fmt::format("welded {} coincident vertices", report.welded_vertices));
+  note(report, Severity::repaired, "W105", report.degenerate_faces,
+       fmt::format("dropped {} faces that collapsed to fewer than 3 distinct vertices",
+                   report.degenerate_faces));
+  note(report, Severity::warning, "W108", report.unused_vertices,
+       fmt::format("ignored {} vertices that no face uses", report.unused_vertices));
+  prep::drop_duplicate_faces(s, report);
+  note(report, Severity::repaired, "W106", report.duplicate_faces,
+       fmt::format("dropped {} duplicate faces", report.duplicate_faces));
+  prep::make_manifold(s, options, report);
+  auto comps = prep::orient_components(s, report);
+  note(report, Severity::repaired, "W107", report.flipped_faces,
+       fmt::format("flipped {} faces to orient every component consistently{}", report.flipped_faces,
+                   " (closed components outward)"));
+
+  // Decide what is kept, then normalize over the kept components together.
+  Box3 kept_box;
+  for (std::size_t c = 0; c < comps.size(); ++c) {
+    ComponentReport r = prep::combinatorial_topology(s, comps[c].tris);
+    r.orientable = comps[c].orientable;
+    if (!r.orientable) {
+      report.orientable = false;
+      r.kept = false;
+      r.genus = 2 - r.euler - r.boundary_loops;  // non-orientable genus (crosscaps)
+      const std::string msg = fmt::format(
+          "component {} is non-orientable (orientation conflict at the edge between input "
+          "vertices {} and {}); quad layouts need an orientable surface",
+          c, comps[c].conflict_a, comps[c].conflict_b);
+      if (!options.diagnose)
+        reject(ErrorKind::unsupported_topology, "E102", msg, {comps[c].conflict_a, comps[c].conflict_b});
+      report.issues.push_back({Severity::error, "E102", msg, 1});
+    } else {
+      r.genus = (2 - r.euler - r.boundary_loops) / 2;
+      if (r.faces < options.min_component_faces) {
+        r.kept = false;
+        report.issues.push_back({Severity::warning, "W109",
+                                 fmt::format("dropped component {} ({} faces, fewer than {})", c,
+                                             r.faces, options.min_component_faces),
+                                 1});
+      }
+    }
+    if (r.kept)
+      for (uint32_t t : comps[c].tris)
+        for (uint32_t v : s.tris[t]) kept_box.add(s.positions[v]);
+    report.components.push_back(r);
+  }
+  const bool any_kept = std::any_of(report.components.begin(), report.components.end(),
+                                    [](const ComponentReport& r) { return r.kept; });
+  if (!any_kept || !(kept_box.diagonal() > 0)) {
+    const std::string msg = !any_kept ? "nothing is left to remesh after preparation"
+                                      : "the mesh has zero extent (all vertices coincide)";
+    if (!options.diagnose) reject(ErrorKind::invalid_input, "E103", msg);
+    report.issues.push_back({Severity::error, "E103", msg, 1});
+    return out;
+  }
+  out.normalization.center = kept_box.center();
+  out.normalization.scale = 1.0 / kept_box.diagonal();
+
+  std::vector<uint32_t> local(s.positions.size(), kInvalid);
+  for (std::size_t c = 0; c < comps.size(); ++c) {
+    ComponentReport& r = report.components[c];
+    if (!r.kept) continue;
+    std::vector<Vec3> positions;
+    std::vector<uint32_t> vin, fin;
+    std::vector<Tri> tris;
+    for (uint32_t t : comps[c].tris) {
+      Tri tri = s.tris[t];
+      for (uint32_t& v : tri) {
+        if (local[v] == kInvalid) {
+          local[v] = uint32_t(positions.size());
+          positions.push_back(out.normalization.apply(s.positions[v]));
+          vin.push_back(s.vertex_input[v]);
+        }
+        v = local[v];
+      }
+      tris.push_back(tri);
+      fin.push_back(s.tri_input[t]);
+    }
+    PreparedComponent pc;
+    pc.mesh = TriMesh(std::move(positions), std::move(tris));
+    pc.input_vertex = VertexData<uint32_t>(std::move(vin));
+    pc.input_face = FaceData<uint32_t>(std::move(fin));
+    pc.feature = prep::mark_features(pc.mesh, options.feature_angle_deg);
+    pc.report_index = uint32_t(c);
+    r.feature_edges = uint32_t(std::count(pc.feature.begin(), pc.feature.end(), 1));
+    shape_statistics(pc.mesh, out.normalization.scale, r);
+    note(report, Severity::warning, "W110", r.zero_area_faces,
+         fmt::format("component {} has {} faces of (near-)zero area", c, r.zero_area_faces));
+    out.components.push_back(std::move(pc));
+  }
+  return out;
+}
+
+}  // namespace isoquad

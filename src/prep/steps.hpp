@@ -1,0 +1,45 @@
+// The steps of prepare(), in the order it runs them. Internal to src/prep.
+#pragma once
+
+#include <vector>
+
+#include "prep/prepare.hpp"
+
+namespace isoquad::prep {
+
+// Triangles over a working vertex set that remembers where everything came from.
+struct Soup {
+  std::vector<Vec3> positions;        // per working vertex
+  std::vector<uint32_t> vertex_input;  // working vertex -> input vertex
+  std::vector<Tri> tris;
+  std::vector<uint32_t> tri_input;     // triangle -> input face
+};
+
+// Input vertex -> representative input vertex (itself if not welded). Only vertices on the
+// soup's boundary are welded unless `all`; `eps` is an absolute distance (0: exact duplicates).
+std::vector<uint32_t> weld_map(const PolyMesh& soup, bool all, double eps, uint32_t& welded);
+
+// Applies the weld, drops faces that collapse, triangulates polygons, drops unused vertices.
+Soup triangulate(const PolyMesh& soup, const std::vector<uint32_t>& weld, InputReport& report);
+
+void drop_duplicate_faces(Soup& soup, InputReport& report);
+
+// Non-manifold edges (rejected, or detached with options.repair) and non-manifold vertices
+// (always split, one copy per fan). Afterwards every edge has one or two faces and every vertex
+// one fan.
+void make_manifold(Soup& soup, const PrepOptions& options, InputReport& report);
+
+struct SoupComponent {
+  std::vector<uint32_t> tris;
+  bool orientable = true;
+  uint32_t conflict_a = 0, conflict_b = 0;  // input vertices of an edge where orientation conflicts
+};
+// Splits into components and orients each consistently (outward when closed).
+std::vector<SoupComponent> orient_components(Soup& soup, InputReport& report);
+
+// Counts V, E, F and boundary loops of a component straight from its triangles.
+ComponentReport combinatorial_topology(const Soup& soup, const std::vector<uint32_t>& tris);
+
+EdgeData<char> mark_features(const TriMesh& mesh, double feature_angle_deg);
+
+}  // namespace isoquad::prep

@@ -1,0 +1,103 @@
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "prep/steps.hpp"
+
+namespace isoquad::prep {
+
+namespace {
+
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  // The smaller id stays the representative, so results do not depend on visiting order.
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Vertices on an edge that only one face uses: where split seams and STL soups have cracks.
+std::vector<char> boundary_vertices(const PolyMesh& soup) {
+  std::vector<std::pair<uint64_t, uint32_t>> edges;
+  for (std::size_t f = 0; f < soup.num_faces(); ++f) {
+    const auto face = soup.face(f);
+    for (std::size_t i = 0; i < face.size(); ++i) {
+      const uint32_t a = face[i], b = face[(i + 1) % face.size()];
+      edges.push_back({(uint64_t(std::min(a, b)) << 32) | std::max(a, b), 0});
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<char> on_boundary(soup.num_vertices(), 0);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+    if (j - i == 1) {
+      on_boundary[edges[i].first >> 32] = 1;
+      on_boundary[edges[i].first & 0xFFFFFFFFu] = 1;
+    }
+    i = j;
+  }
+  return on_boundary;
+}
+
+}  // namespace
+
+std::vector<uint32_t> weld_map(const PolyMesh& soup, bool all, double eps, uint32_t& welded) {
+  const uint32_t n = uint32_t(soup.num_vertices());
+  std::vector<uint32_t> candidates;
+  const std::vector<char> boundary = all ? std::vector<char>() : boundary_vertices(soup);
+  for (uint32_t v = 0; v < n; ++v)
+    if (all || boundary[v]) candidates.push_back(v);
+
+  UnionFind uf(n);
+  const auto& P = soup.positions;
+  if (eps <= 0) {
+    auto less = [&](uint32_t a, uint32_t b) {
+      if (P[a].x != P[b].x) return P[a].x < P[b].x;
+      if (P[a].y != P[b].y) return P[a].y < P[b].y;
+      if (P[a].z != P[b].z) return P[a].z < P[b].z;
+      return a < b;
+    };
+    std::sort(candidates.begin(), candidates.end(), less);
+    for (std::size_t i = 1; i < candidates.size(); ++i)
+      if (P[candidates[i]] == P[candidates[i - 1]]) uf.unite(candidates[i], candidates[i - 1]);
+  } else {
+    // Spatial hash with cells of size eps; neighbours within eps are in the 27 adjacent cells.
+    auto cell = [&](Vec3 p) {
+      return std::array<int64_t, 3>{int64_t(std::floor(p.x / eps)), int64_t(std::floor(p.y / eps)),
+                                    int64_t(std::floor(p.z / eps))};
+    };
+    auto key = [](const std::array<int64_t, 3>& c) {
+      return uint64_t(c[0]) * 73856093u ^ uint64_t(c[1]) * 19349663u ^ uint64_t(c[2]) * 83492791u;
+    };
+    std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
+    for (uint32_t v : candidates) grid[key(cell(P[v]))].push_back(v);
+    for (uint32_t v : candidates) {
+      const auto c = cell(P[v]);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            const auto it = grid.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
+            if (it == grid.end()) continue;
+            for (uint32_t w : it->second)
+              if (w < v && norm(P[w] - P[v]) <= eps) uf.unite(v, w);
+          }
+    }
+  }
+  std::vector<uint32_t> rep(n);
+  welded = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    rep[v] = uf.find(v);
+    if (rep[v] != v) ++welded;
+  }
+  return rep;
+}
+
+}  // namespace isoquad::prep
