@@ -10,11 +10,11 @@ namespace isoquad {
 
 namespace {
 
-[[noreturn]] void reject(const std::string& what, std::vector<uint32_t> vertices,
-                         std::vector<uint32_t> faces) {
+[[noreturn]] void reject(const std::string& what, std::initializer_list<uint32_t> vertices,
+                         std::initializer_list<uint32_t> faces) {
   ErrorContext ctx;
-  ctx.vertices = std::move(vertices);
-  ctx.faces = std::move(faces);
+  ctx.vertices = vertices;
+  ctx.faces = faces;
   throw Error(ErrorKind::invalid_input, "E100", "TriMesh precondition violated: " + what, ctx);
 }
 

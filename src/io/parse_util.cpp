@@ -6,11 +6,11 @@
 namespace isoquad::io {
 
 void fail_at_line(const std::string& file, int64_t line, const char* code, const std::string& message,
-                  std::vector<uint32_t> faces) {
+                  std::initializer_list<uint32_t> faces) {
   ErrorContext ctx;
   ctx.file = file;
   ctx.line = line;
-  ctx.faces = std::move(faces);
+  ctx.faces = faces;
   throw Error(ErrorKind::invalid_input, code, message, std::move(ctx));
 }
 

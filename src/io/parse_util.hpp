@@ -27,7 +27,7 @@ inline constexpr const char* kCountMismatch = "E015";
 inline constexpr const char* kEmpty = "E016";
 
 [[noreturn]] void fail_at_line(const std::string& file, int64_t line, const char* code,
-                               const std::string& message, std::vector<uint32_t> faces = {});
+                               const std::string& message, std::initializer_list<uint32_t> faces = {});
 [[noreturn]] void fail_at_byte(const std::string& file, int64_t offset, const char* code,
                                const std::string& message);
 

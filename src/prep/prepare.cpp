@@ -24,9 +24,9 @@ void note(InputReport& r, Severity severity, const char* code, uint32_t count, c
 }
 
 [[noreturn]] void reject(ErrorKind kind, const char* code, const std::string& msg,
-                         std::vector<uint32_t> vertices = {}) {
+                         std::initializer_list<uint32_t> vertices = {}) {
   ErrorContext ctx;
-  ctx.vertices = std::move(vertices);
+  ctx.vertices = vertices;
   throw Error(kind, code, msg, ctx);
 }
 

@@ -1,0 +1,92 @@
+// The command line: exit statuses, messages on stderr, and --json output.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <sys/wait.h>
+
+#include "corpus.hpp"
+
+namespace {
+
+struct CliRun {
+  int status;
+  std::string out, err;
+};
+
+CliRun run(const std::string& args) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string tag = std::to_string(::getpid()) + "_" +
+                          ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const auto out = dir / ("isoquad_cli_out_" + tag), err = dir / ("isoquad_cli_err_" + tag);
+  const std::string cmd = std::string(ISOQUAD_CLI_PATH) + " " + args + " >" + out.string() + " 2>" + err.string();
+  const int raw = std::system(cmd.c_str());
+  auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  CliRun r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return r;
+}
+
+std::filesystem::path write_temp(const std::string& name, const std::string& content) {
+  const auto p = std::filesystem::temp_directory_path() / name;
+  std::ofstream(p) << content;
+  return p;
+}
+
+}  // namespace
+
+TEST(Cli, VersionAndHelp) {
+  EXPECT_EQ(run("--version").status, 0);
+  const CliRun help = run("info --help");
+  EXPECT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("--repair"), std::string::npos);
+  EXPECT_NE(run("").status, 0);  // a subcommand is required
+}
+
+TEST(Cli, InfoOnSampleMesh) {
+  const CliRun r = run("info " + (isoquad::test::data_dir() / "elephant.off").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("genus 3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("would accept"), std::string::npos);
+  const CliRun j = run("info --json " + (isoquad::test::data_dir() / "nefertiti.off").string());
+  ASSERT_EQ(j.status, 0) << j.err;
+  const auto doc = nlohmann::json::parse(j.out);
+  EXPECT_EQ(doc["components"][0]["boundary_loops"], 1);
+  EXPECT_EQ(doc["components"][0]["euler_characteristic"], 1);
+  EXPECT_EQ(doc["remesh_would_accept"], true);
+}
+
+TEST(Cli, MalformedFileGivesLocatedErrorAndExitStatus2) {
+  const auto p = write_temp("isoquad_cli_bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+  const CliRun r = run("info " + p.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("isoquad: error:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("isoquad_cli_bad.obj:4:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("E012"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  std::filesystem::remove(p);
+  EXPECT_EQ(run("info /nonexistent/mesh.off").status, 2);
+}
+
+TEST(Cli, InfoExplainsWhatRemeshWouldReject) {
+  // Three triangles on edge 1-2 (an edge with three faces), each big enough to be kept.
+  std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\n";
+  obj += "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
+  const auto p = write_temp("isoquad_cli_nm.obj", obj);
+  const CliRun r = run("info --min-component-faces 1 " + p.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("reject E101"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("would reject"), std::string::npos);
+  const CliRun fixed = run("info --repair --min-component-faces 1 " + p.string());
+  EXPECT_EQ(fixed.status, 0) << fixed.out;
+  EXPECT_NE(fixed.out.find("repair W101"), std::string::npos) << fixed.out;
+  std::filesystem::remove(p);
+}

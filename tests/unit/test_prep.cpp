@@ -1,0 +1,218 @@
+#include <cmath>
+#include <gtest/gtest.h>
+
+#include "isoquad/error.hpp"
+#include "prep/prepare.hpp"
+#include "shapes.hpp"
+
+using namespace isoquad;
+
+namespace {
+
+std::string error_code(const PolyMesh& m, PrepOptions o = {}) {
+  try {
+    prepare(m, o);
+  } catch (const Error& e) {
+    return e.code();
+  }
+  return "accepted";
+}
+
+double signed_volume(const TriMesh& m) {
+  double v = 0;
+  for (const Tri& t : m.faces()) v += dot(m.position(t[0]), cross(m.position(t[1]), m.position(t[2])));
+  return v / 6;
+}
+
+PolyMesh triangulated_cube() {
+  const PolyMesh q = test::cube_quads();
+  PolyMesh t;
+  t.positions = q.positions;
+  for (std::size_t f = 0; f < q.num_faces(); ++f) {
+    const auto v = q.face(f);
+    t.add_face({v[0], v[1], v[2]});
+    t.add_face({v[0], v[2], v[3]});
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST(Prepare, NonManifoldEdgeIsRejectedOrDetached) {
+  // Three fans of two triangles each around edge 0-1: six faces on one edge.
+  PolyMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}};
+  for (int k = 0; k < 3; ++k) {
+    const double a = 2.1 * k;
+    m.positions.push_back({0.5, std::cos(a), std::sin(a)});
+  }
+  m.add_face({0, 1, 2});
+  m.add_face({1, 0, 3});
+  m.add_face({0, 1, 4});
+  try {
+    prepare(m, {.min_component_faces = 1});
+    FAIL() << "accepted a non-manifold edge";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), "E101");
+    EXPECT_EQ(e.kind(), ErrorKind::invalid_input);
+    EXPECT_NE(std::string(e.what()).find("input vertices 0-1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--repair"), std::string::npos);
+    EXPECT_EQ(e.context().faces, (std::vector<uint32_t>{0, 1, 2}));
+  }
+  const PreparedMesh p = prepare(m, {.repair = true, .min_component_faces = 1});
+  EXPECT_EQ(p.report.non_manifold_edges, 1u);
+  ASSERT_EQ(p.components.size(), 2u);  // the pair that stays glued, and the detached face
+  EXPECT_EQ(p.components[0].mesh.num_faces(), 2u);
+  EXPECT_EQ(p.components[0].mesh.euler_characteristic(), 1);
+  EXPECT_EQ(p.components[1].mesh.num_faces(), 1u);
+  EXPECT_EQ(p.components[1].mesh.euler_characteristic(), 1);
+}
+
+TEST(Prepare, BowTieVertexIsSplit) {
+  PolyMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
+  m.add_face({0, 1, 2});
+  m.add_face({0, 3, 4});
+  const PreparedMesh p = prepare(m, {.min_component_faces = 1});
+  EXPECT_EQ(p.report.split_vertices, 1u);
+  ASSERT_EQ(p.components.size(), 2u);
+  EXPECT_EQ(p.components[0].mesh.num_vertices() + p.components[1].mesh.num_vertices(), 6u);
+  EXPECT_EQ(p.components[1].input_vertex[0], 0u);  // both copies remember input vertex 0
+}
+
+TEST(Prepare, MobiusStripIsRejectedAsNonOrientable) {
+  const PolyMesh m = test::mobius_strip(24);
+  try {
+    prepare(m);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), "E102");
+    EXPECT_EQ(e.kind(), ErrorKind::unsupported_topology);
+    EXPECT_EQ(e.context().vertices.size(), 2u);
+  }
+  const PreparedMesh p = prepare(m, {.diagnose = true});
+  EXPECT_TRUE(p.components.empty());
+  ASSERT_EQ(p.report.components.size(), 1u);
+  const ComponentReport& c = p.report.components[0];
+  EXPECT_FALSE(c.orientable);
+  EXPECT_EQ(c.euler, 0);
+  EXPECT_EQ(c.boundary_loops, 1u);
+  EXPECT_EQ(c.genus, 1);  // one crosscap
+  EXPECT_TRUE(p.report.has_errors());
+}
+
+TEST(Prepare, StlCubeIsWelded) {
+  const PolyMesh soup = test::stl_soup(triangulated_cube());
+  ASSERT_EQ(soup.num_vertices(), 36u);
+  const PreparedMesh p = prepare(soup, {.weld_all = true});
+  ASSERT_EQ(p.components.size(), 1u);
+  const TriMesh& m = p.components[0].mesh;
+  EXPECT_EQ(m.num_vertices(), 8u);
+  EXPECT_EQ(m.num_faces(), 12u);
+  EXPECT_EQ(m.euler_characteristic(), 2);
+  EXPECT_EQ(m.components()[0].genus(), 0);
+  EXPECT_EQ(p.report.welded_vertices, 28u);
+  // Every edge of the cube is a 90 degree crease; the face diagonals are flat.
+  EXPECT_EQ(p.report.components[0].feature_edges, 12u);
+  EXPECT_EQ(prepare(soup, {.weld_all = true, .feature_angle_deg = 0}).report.components[0].feature_edges, 0u);
+}
+
+TEST(Prepare, CoincidentInteriorVerticesAreNotWelded) {
+  // Two spheres touching at one point, each with its own vertex there (like cow.off): welding
+  // them would pinch the surface, so they stay apart.
+  const PolyMesh s = test::icosphere(1);
+  PolyMesh m = s;
+  const Vec3 p0 = s.positions[0];
+  for (const Vec3& p : s.positions) m.positions.push_back(2.0 * p0 - p);
+  const uint32_t n = uint32_t(s.num_vertices());
+  for (std::size_t f = 0; f < s.num_faces(); ++f) m.add_face({s.face(f)[0] + n, s.face(f)[2] + n, s.face(f)[1] + n});
+  const PreparedMesh p = prepare(m);
+  EXPECT_EQ(p.report.welded_vertices, 0u);
+  ASSERT_EQ(p.components.size(), 2u);
+  EXPECT_EQ(p.components[0].mesh.euler_characteristic(), 2);
+  EXPECT_EQ(p.components[1].mesh.euler_characteristic(), 2);
+}
+
+TEST(Prepare, OrientationIsMadeConsistentAndOutward) {
+  PolyMesh m = test::icosphere(2);
+  PolyMesh flipped;
+  flipped.positions = m.positions;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    const auto v = m.face(f);
+    if (f % 10 < 3) flipped.add_face({v[0], v[2], v[1]});  // 30% of the faces
+    else flipped.add_face({v[0], v[1], v[2]});
+  }
+  const PreparedMesh p = prepare(flipped);
+  EXPECT_EQ(p.report.flipped_faces, 96u);
+  EXPECT_GT(signed_volume(p.components[0].mesh), 0);
+
+  PolyMesh inside_out;
+  inside_out.positions = m.positions;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) inside_out.add_face({m.face(f)[0], m.face(f)[2], m.face(f)[1]});
+  const PreparedMesh q = prepare(inside_out);
+  EXPECT_EQ(q.report.flipped_faces, 320u);
+  EXPECT_GT(signed_volume(q.components[0].mesh), 0);
+}
+
+TEST(Prepare, OpenSurfaceKeepsTheMajorityOrientation) {
+  PolyMesh m = test::grid_plate(4, 4);
+  std::swap(m.face_vertices[1], m.face_vertices[2]);  // flip face 0
+  const PreparedMesh p = prepare(m);
+  EXPECT_EQ(p.report.flipped_faces, 1u);
+  EXPECT_GT(p.components[0].mesh.face_normal(5).z, 0);
+}
+
+TEST(Prepare, DegenerateAndDuplicateFacesAreDroppedWithACount) {
+  PolyMesh soup = test::stl_soup(triangulated_cube());
+  soup.positions.push_back(soup.positions[0]);  // a facet whose corners collapse when welded
+  soup.positions.push_back(soup.positions[0]);
+  soup.positions.push_back(soup.positions[1]);
+  soup.add_face({36, 37, 38});
+  for (uint32_t k = 0; k < 3; ++k) soup.positions.push_back(soup.positions[k]);  // a duplicate of facet 0
+  soup.add_face({39, 40, 41});
+  const PreparedMesh p = prepare(soup, {.weld_all = true});
+  EXPECT_EQ(p.report.degenerate_faces, 1u);
+  EXPECT_EQ(p.report.duplicate_faces, 1u);
+  EXPECT_EQ(p.components[0].mesh.num_faces(), 12u);
+  EXPECT_EQ(p.components[0].mesh.euler_characteristic(), 2);
+}
+
+TEST(Prepare, PolygonsAreTriangulatedWithoutLosingArea) {
+  PolyMesh l;  // an L-shaped (non-convex) hexagon
+  l.positions = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
+  l.add_face({0, 1, 2, 3, 4, 5});
+  const PreparedMesh p = prepare(l, {.min_component_faces = 1});
+  const TriMesh& m = p.components[0].mesh;
+  EXPECT_EQ(m.num_faces(), 4u);
+  EXPECT_NEAR(p.report.components[0].area, 3.0, 1e-12);
+  for (uint32_t f = 0; f < m.num_faces(); ++f) EXPECT_GT(m.face_normal(f).z, 0.99);
+  EXPECT_EQ(m.boundary_loops()[0].size(), 6u);
+}
+
+TEST(Prepare, TinyComponentsAreDroppedAndNothingLeftIsAnError) {
+  PolyMesh m = test::icosphere(1);
+  const uint32_t n = uint32_t(m.positions.size());
+  m.positions.insert(m.positions.end(), {{5, 0, 0}, {6, 0, 0}, {5, 1, 0}});
+  m.add_face({n, n + 1, n + 2});
+  const PreparedMesh p = prepare(m);
+  EXPECT_EQ(p.components.size(), 1u);
+  EXPECT_EQ(p.report.components.size(), 2u);
+  EXPECT_FALSE(p.report.components[1].kept);
+  PolyMesh single;
+  single.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  single.add_face({0, 1, 2});
+  EXPECT_EQ(error_code(single), "E103");
+}
+
+TEST(Prepare, NormalizationRoundTrip) {
+  PolyMesh m = test::torus(16, 8);
+  for (Vec3& p : m.positions) p = 1e6 * p + Vec3{3e6, -2e5, 7};
+  const PreparedMesh prep = prepare(m);
+  const TriMesh& t = prep.components[0].mesh;
+  EXPECT_NEAR(t.bounding_box().diagonal(), 1.0, 1e-15);
+  EXPECT_NEAR(norm(t.bounding_box().center()), 0.0, 1e-15);
+  for (uint32_t v = 0; v < t.num_vertices(); ++v) {
+    const Vec3 orig = m.positions[prep.components[0].input_vertex[v]];
+    EXPECT_LE(norm(prep.normalization.invert(t.position(v)) - orig), 1e-15 * norm(orig));
+  }
+}
