@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <fmt/format.h>
-#include <fstream>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <system_error>
+#include <unistd.h>
 
 #include "io/parse_util.hpp"
 
@@ -21,23 +26,45 @@ std::string_view to_string(MeshFormat format) {
 
 namespace {
 
-std::string read_bytes(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    io::fail_at_line(name, -1, io::kUnreadable, "is a directory, not a mesh file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    ErrorContext ctx;
-    ctx.file = name;
-    const bool exists = std::filesystem::exists(path, ec);
-    throw Error(ErrorKind::invalid_input, io::kUnreadable,
-                exists ? "cannot be opened (permission denied?)" : "no such file", ctx);
+// The file's bytes, mapped read-only (no copy, and far fewer page faults than a fresh buffer).
+class MappedFile {
+ public:
+  explicit MappedFile(const std::filesystem::path& path) {
+    const std::string name = path.string();
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+      io::fail_at_line(name, -1, io::kUnreadable, "is a directory, not a mesh file");
+    fd_ = ::open(name.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0) {
+      ErrorContext ctx;
+      ctx.file = name;
+      throw Error(ErrorKind::invalid_input, io::kUnreadable,
+                  errno == ENOENT ? "no such file" : std::string("cannot be opened: ") + std::strerror(errno),
+                  ctx);
+    }
+    struct stat st {};
+    if (::fstat(fd_, &st) != 0) io::fail_at_line(name, -1, io::kUnreadable, "cannot be read");
+    size_ = std::size_t(st.st_size);
+    if (size_ == 0) return;
+    data_ = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd_, 0);
+    if (data_ == MAP_FAILED) {
+      data_ = nullptr;
+      io::fail_at_line(name, -1, io::kUnreadable, std::string("cannot be mapped: ") + std::strerror(errno));
+    }
   }
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) io::fail_at_line(name, -1, io::kUnreadable, "read error");
-  return bytes;
-}
+  ~MappedFile() {
+    if (data_) ::munmap(data_, size_);
+    if (fd_ >= 0) ::close(fd_);
+  }
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  std::string_view bytes() const { return {static_cast<const char*>(data_), data_ ? size_ : 0}; }
+
+ private:
+  int fd_ = -1;
+  void* data_ = nullptr;
+  std::size_t size_ = 0;
+};
 
 bool format_from_extension(const std::filesystem::path& path, MeshFormat& out) {
   std::string ext = path.extension().string();
@@ -87,7 +114,8 @@ ReadResult read_mesh_from_memory(std::string_view bytes, MeshFormat format, cons
 }
 
 ReadResult read_mesh(const std::filesystem::path& path, const ReadOptions& options) {
-  const std::string bytes = read_bytes(path);
+  const MappedFile file(path);
+  const std::string_view bytes = file.bytes();
   MeshFormat format;
   if (!format_from_extension(path, format) && !format_from_content(bytes, format))
     io::fail_at_line(path.string(), -1, io::kUnknownFormat,
