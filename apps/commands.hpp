@@ -10,5 +10,6 @@ namespace isoquad::cli {
 using Runner = std::function<int()>;
 
 Runner add_info(CLI::App& app);
+Runner add_segment(CLI::App& app);
 
 }  // namespace isoquad::cli

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     commands.push_back({app.get_subcommands({}).at(before), std::move(run)});
   };
   add(isoquad::cli::add_info);
+  add(isoquad::cli::add_segment);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,29 @@
+// Topology repair of a segmentation (paper §3.1 "patches should be cut into subpatches
+// homeomorphic to disks"; DESIGN.md §2.2): afterwards every patch is connected, a disk, and not
+// pinched (no vertex sees the same patch in two wedges).
+#pragma once
+
+#include <cstdint>
+
+#include "core/element_data.hpp"
+#include "core/tri_mesh.hpp"
+
+namespace isoquad {
+
+struct DiskRepairLog {
+  uint32_t disconnected_split = 0;  // labels that fell apart and became several patches
+  uint32_t pinches_fixed = 0;       // wedges relabelled
+  uint32_t voronoi_splits = 0;      // non-disk patches split into disks by geodesic Voronoi cells
+  uint32_t two_path_cuts = 0;       // patches with holes cut along two paths
+  uint32_t tiny_merged = 0;         // patches too small for four corners, merged into a neighbour
+  uint32_t rounds = 0;
+};
+
+// Relabels in place and returns the new number of patches (labels 0..n-1, ordered by first face).
+// \throw Error(unsupported_topology, E201) if a patch cannot be made a disk in 12 pieces.
+uint32_t make_disk_patches(const TriMesh& mesh, FaceData<uint32_t>& labels, DiskRepairLog& log);
+
+// Renumbers labels 0..n-1 in order of first face; returns n.
+uint32_t compact_labels(FaceData<uint32_t>& labels);
+
+}  // namespace isoquad

@@ -1,0 +1,94 @@
+#include "seg/geodesic.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+
+namespace isoquad {
+
+std::vector<uint32_t> ShortestPaths::path_to(uint32_t target) const {
+  std::vector<uint32_t> path;
+  if (!(distance[target] < INFINITY)) return path;
+  for (uint32_t v = target; v != kInvalid; v = predecessor[v]) path.push_back(v);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+namespace {
+
+// Generic Dijkstra over n nodes; neighbours(node, visit(next, length)).
+template <class Neighbours>
+ShortestPaths dijkstra(std::size_t n, const std::vector<uint32_t>& sources, Neighbours&& neighbours,
+                       const std::function<bool(uint32_t)>& stop) {
+  ShortestPaths r;
+  r.distance.assign(n, INFINITY);
+  r.predecessor.assign(n, kInvalid);
+  r.source.assign(n, kInvalid);
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  for (uint32_t s : sources) {
+    if (r.distance[s] == 0) continue;
+    r.distance[s] = 0;
+    r.source[s] = s;
+    queue.push({0.0, s});
+  }
+  while (!queue.empty()) {
+    const auto [d, u] = queue.top();
+    queue.pop();
+    if (d > r.distance[u]) continue;
+    if (stop && stop(u)) break;
+    neighbours(u, [&](uint32_t v, double len) {
+      const double nd = d + len;
+      if (nd < r.distance[v]) {
+        r.distance[v] = nd;
+        r.predecessor[v] = u;
+        r.source[v] = r.source[u];
+        queue.push({nd, v});
+      }
+    });
+  }
+  return r;
+}
+
+}  // namespace
+
+ShortestPaths vertex_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& sources,
+                              const std::function<bool(uint32_t, uint32_t)>& allowed,
+                              const std::function<bool(uint32_t)>& stop) {
+  return dijkstra(
+      mesh.num_vertices(), sources,
+      [&](uint32_t u, auto&& visit) {
+        auto go = [&](uint32_t v, uint32_t h) {
+          if (allowed(v, mesh.edge(h))) visit(v, norm(mesh.position(v) - mesh.position(u)));
+        };
+        mesh.for_each_outgoing(u, [&](uint32_t h) { go(mesh.to(h), h); });
+        // The last neighbour of a boundary fan is reached only through the incoming boundary edge.
+        if (mesh.is_boundary_vertex(u)) {
+          uint32_t last = mesh.outgoing(u);
+          mesh.for_each_outgoing(u, [&](uint32_t g) { last = g; });
+          go(mesh.from(TriMesh::prev(last)), TriMesh::prev(last));
+        }
+      },
+      stop);
+}
+
+ShortestPaths face_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& sources,
+                            const std::function<bool(uint32_t)>& crossable) {
+  auto centroid = [&](uint32_t f) {
+    const Tri& t = mesh.face(f);
+    return (mesh.position(t[0]) + mesh.position(t[1]) + mesh.position(t[2])) / 3.0;
+  };
+  return dijkstra(
+      mesh.num_faces(), sources,
+      [&](uint32_t f, auto&& visit) {
+        for (uint32_t i = 0; i < 3; ++i) {
+          const uint32_t h = 3 * f + i;
+          if (mesh.twin(h) == kInvalid || !crossable(h)) continue;
+          const uint32_t g = TriMesh::face_of(mesh.twin(h));
+          visit(g, norm(centroid(g) - centroid(f)));
+        }
+      },
+      nullptr);
+}
+
+}  // namespace isoquad

@@ -1,0 +1,30 @@
+// Dijkstra on the vertex graph and on the dual (face) graph of a TriMesh, restricted by
+// predicates. The one shortest-path routine of segmentation and layout.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "core/tri_mesh.hpp"
+
+namespace isoquad {
+
+struct ShortestPaths {
+  std::vector<double> distance;       // INFINITY where unreached
+  std::vector<uint32_t> predecessor;  // kInvalid at sources and unreached
+  std::vector<uint32_t> source;       // which source reached it
+  // The path from a source to `target`, source first.
+  std::vector<uint32_t> path_to(uint32_t target) const;
+};
+
+// Vertex Dijkstra with edge lengths in 3D. `allowed(v, e)` says whether vertex v may be entered
+// through mesh edge e; `stop(v)` ends the search when v is settled.
+ShortestPaths vertex_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& sources,
+                              const std::function<bool(uint32_t, uint32_t)>& allowed,
+                              const std::function<bool(uint32_t)>& stop = nullptr);
+
+// Face Dijkstra between centroids across edges where `crossable(halfedge)` holds.
+ShortestPaths face_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& sources,
+                            const std::function<bool(uint32_t)>& crossable);
+
+}  // namespace isoquad

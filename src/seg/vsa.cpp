@@ -1,0 +1,487 @@
+#include "seg/vsa.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <random>
+
+namespace isoquad {
+
+namespace {
+
+// Running sums of a region. With unit face normals the L2,1 error of a region under its best
+// plane is exactly 2 (A - |sum A n|), and the compactness term is sum A|c|^2 - |sum A c|^2 / A,
+// so errors of regions and of candidate merges cost O(1).
+struct RegionSums {
+  double area = 0, c2 = 0;
+  Vec3 n, c;
+  uint32_t faces = 0;
+  void add(double a, Vec3 normal, Vec3 centroid) {
+    area += a;
+    n += a * normal;
+    c += a * centroid;
+    c2 += a * dot(centroid, centroid);
+    ++faces;
+  }
+  RegionSums merged(const RegionSums& o) const {
+    RegionSums r = *this;
+    r.area += o.area, r.c2 += o.c2, r.n += o.n, r.c += o.c, r.faces += o.faces;
+    return r;
+  }
+  double error(double compact_weight) const {
+    if (area <= 0) return 0;
+    return std::max(0.0, 2 * (area - norm(n))) +
+           compact_weight * std::max(0.0, c2 - squared_norm(c) / area);
+  }
+};
+
+struct QueueEntry {
+  double error;
+  uint32_t face, proxy;
+  bool operator>(const QueueEntry& o) const {  // ties broken by ids: deterministic
+    if (error != o.error) return error > o.error;
+    if (face != o.face) return face > o.face;
+    return proxy > o.proxy;
+  }
+};
+
+class Vsa {
+ public:
+  Vsa(const TriMesh& mesh, const EdgeData<char>& barrier, const VsaOptions& o)
+      : m_(mesh), barrier_(barrier), o_(o), rng_(o.seed) {
+    const uint32_t nf = m_.num_faces();
+    a_.resize(nf);
+    c_.resize(nf);
+    for (uint32_t f = 0; f < nf; ++f) {
+      a_[f] = m_.face_area(f);
+      const Tri& t = m_.face(f);
+      c_[f] = (m_.position(t[0]) + m_.position(t[1]) + m_.position(t[2])) / 3.0;
+      area_ += a_[f];
+    }
+    drop_noise_barriers();
+    smooth_normals();
+    label_.assign(nf, kInvalid);
+  }
+
+  Segmentation run();
+
+ private:
+  bool crossable(uint32_t h) const { return m_.twin(h) != kInvalid && !barrier_[m_.edge(h)]; }
+  void drop_noise_barriers();
+  double weight() const { return o_.compactness / (area_ / double(std::max<std::size_t>(proxies_.size(), 1))); }
+  double face_error(uint32_t f, const Proxy& p) const {
+    return a_[f] * (squared_norm(n_[f] - p.normal) + weight() * squared_norm(c_[f] - p.centroid));
+  }
+  Proxy proxy_at(uint32_t f) const {
+    Proxy p;
+    p.normal = n_[f];
+    p.centroid = c_[f];
+    p.seed_face = f;
+    return p;
+  }
+  void smooth_normals();
+  void partition();
+  void flood();
+  void fit();
+  double total_error() const;
+  void relax(uint32_t iterations);
+  void converge();
+  void add_proxies(uint32_t count);
+  bool teleport();
+  void merge_small(double min_area);
+  void compact();
+  std::vector<RegionSums> sums() const;
+
+  const TriMesh& m_;
+  EdgeData<char> barrier_;
+  VsaOptions o_;
+  std::mt19937_64 rng_;
+  std::vector<Vec3> n_, c_;
+  std::vector<double> a_;
+  double area_ = 0;
+  std::vector<uint32_t> label_;
+  std::vector<Proxy> proxies_;
+  std::vector<double> log_;
+};
+
+// Feature edges that enclose fewer than 10 faces are noise (common on scans at 60 degrees), not
+// features: they stop being barriers, so that they neither count as patches nor block flooding.
+void Vsa::drop_noise_barriers() {
+  std::vector<uint32_t> region(m_.num_faces(), kInvalid), stack, members;
+  for (uint32_t f0 = 0; f0 < m_.num_faces(); ++f0) {
+    if (region[f0] != kInvalid) continue;
+    members.assign(1, f0);
+    region[f0] = f0;
+    stack.assign(1, f0);
+    while (!stack.empty()) {
+      const uint32_t f = stack.back();
+      stack.pop_back();
+      for (uint32_t i = 0; i < 3; ++i) {
+        const uint32_t h = 3 * f + i;
+        if (!crossable(h)) continue;
+        const uint32_t g = TriMesh::face_of(m_.twin(h));
+        if (region[g] == kInvalid) {
+          region[g] = f0;
+          members.push_back(g);
+          stack.push_back(g);
+        }
+      }
+    }
+    if (members.size() >= 10 || members.size() == m_.num_faces()) continue;
+    for (uint32_t f : members)
+      for (uint32_t i = 0; i < 3; ++i) barrier_[m_.edge(3 * f + i)] = 0;
+  }
+}
+
+// Scan noise makes face normals jitter; the metric uses normals averaged twice with their
+// neighbours (not across barriers). The geometry is untouched.
+void Vsa::smooth_normals() {
+  const uint32_t nf = m_.num_faces();
+  n_.resize(nf);
+  for (uint32_t f = 0; f < nf; ++f) n_[f] = m_.face_normal(f);
+  std::vector<Vec3> next(nf);
+  for (int it = 0; it < 2; ++it) {
+    for (uint32_t f = 0; f < nf; ++f) {
+      Vec3 s = a_[f] * n_[f];
+      for (uint32_t i = 0; i < 3; ++i)
+        if (crossable(3 * f + i)) {
+          const uint32_t g = TriMesh::face_of(m_.twin(3 * f + i));
+          s += a_[g] * n_[g];
+        }
+      next[f] = squared_norm(s) > 0 ? normalized(s) : n_[f];
+    }
+    n_.swap(next);
+  }
+}
+
+// Distortion-minimizing flooding from the proxies' seed faces.
+void Vsa::flood() {
+  std::fill(label_.begin(), label_.end(), kInvalid);
+  std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>> queue;
+  auto push_neighbours = [&](uint32_t f, uint32_t p) {
+    for (uint32_t i = 0; i < 3; ++i) {
+      const uint32_t h = 3 * f + i;
+      if (!crossable(h)) continue;
+      const uint32_t g = TriMesh::face_of(m_.twin(h));
+      if (label_[g] == kInvalid) queue.push({face_error(g, proxies_[p]), g, p});
+    }
+  };
+  for (uint32_t p = 0; p < proxies_.size(); ++p) label_[proxies_[p].seed_face] = p;
+  for (uint32_t p = 0; p < proxies_.size(); ++p) push_neighbours(proxies_[p].seed_face, p);
+  while (!queue.empty()) {
+    const QueueEntry e = queue.top();
+    queue.pop();
+    if (label_[e.face] != kInvalid) continue;
+    label_[e.face] = e.proxy;
+    push_neighbours(e.face, e.proxy);
+  }
+}
+
+// Floods; regions that no seed can reach (enclosed by barriers) get a proxy of their own.
+void Vsa::partition() {
+  while (true) {
+    flood();
+    bool added = false;
+    std::vector<uint32_t> stack;
+    for (uint32_t f0 = 0; f0 < m_.num_faces(); ++f0) {
+      if (label_[f0] != kInvalid) continue;
+      const uint32_t p = uint32_t(proxies_.size());
+      uint32_t best = f0;
+      label_[f0] = p;
+      stack.assign(1, f0);
+      while (!stack.empty()) {
+        const uint32_t f = stack.back();
+        stack.pop_back();
+        if (a_[f] > a_[best] || (a_[f] == a_[best] && f < best)) best = f;
+        for (uint32_t i = 0; i < 3; ++i) {
+          const uint32_t h = 3 * f + i;
+          if (!crossable(h)) continue;
+          const uint32_t g = TriMesh::face_of(m_.twin(h));
+          if (label_[g] == kInvalid) {
+            label_[g] = p;
+            stack.push_back(g);
+          }
+        }
+      }
+      proxies_.push_back(proxy_at(best));
+      added = true;
+    }
+    if (!added) return;
+  }
+}
+
+std::vector<RegionSums> Vsa::sums() const {
+  std::vector<RegionSums> s(proxies_.size());
+  for (uint32_t f = 0; f < m_.num_faces(); ++f) s[label_[f]].add(a_[f], n_[f], c_[f]);
+  return s;
+}
+
+// Refits every proxy to its region; the new seed is the region's best-fitting face.
+void Vsa::fit() {
+  const auto s = sums();
+  for (uint32_t p = 0; p < proxies_.size(); ++p) {
+    Proxy& q = proxies_[p];
+    q.area = s[p].area;
+    // A closed region (a sphere in one patch) has a near-zero normal sum: keep the old normal.
+    if (norm(s[p].n) > 1e-12 * std::max(s[p].area, 1e-300)) q.normal = normalized(s[p].n);
+    if (s[p].area > 0) q.centroid = s[p].c / s[p].area;
+    q.error = 0;
+    q.seed_face = kInvalid;
+  }
+  std::vector<double> best(proxies_.size(), INFINITY);
+  for (uint32_t f = 0; f < m_.num_faces(); ++f) {
+    Proxy& q = proxies_[label_[f]];
+    const double e = face_error(f, q);
+    q.error += e;
+    if (e < best[label_[f]]) {
+      best[label_[f]] = e;
+      q.seed_face = f;
+    }
+  }
+}
+
+double Vsa::total_error() const {
+  double e = 0;
+  for (const Proxy& p : proxies_) e += p.error;
+  return e;
+}
+
+void Vsa::relax(uint32_t iterations) {
+  for (uint32_t i = 0; i < iterations; ++i) {
+    partition();
+    fit();
+    log_.push_back(total_error());
+  }
+}
+
+// Lloyd iterations until the error, averaged over 3 iterations, changes by less than 0.1%
+// (it may fluctuate); keeps the best labelling seen.
+void Vsa::converge() {
+  auto best_labels = label_;
+  auto best_proxies = proxies_;
+  double best = total_error();
+  std::vector<double> hist{best};
+  for (uint32_t it = 0; it < o_.max_iterations; ++it) {
+    relax(1);
+    const double e = total_error();
+    hist.push_back(e);
+    if (e < best) {
+      best = e, best_labels = label_, best_proxies = proxies_;
+    }
+    if (hist.size() > 3) {
+      const double avg_change = std::fabs(hist[hist.size() - 4] - e) / 3.0;
+      if (avg_change <= 1e-3 * e || e == 0) break;
+    }
+  }
+  label_ = std::move(best_labels);
+  proxies_ = std::move(best_proxies);
+}
+
+// Error diffusion: each region receives new seeds in proportion to its error (carrying the
+// rounding residual over); within a region, new seeds go to the faces farthest from its seeds.
+void Vsa::add_proxies(uint32_t count) {
+  if (count == 0) return;
+  const uint32_t k = uint32_t(proxies_.size());
+  const double total = total_error();
+  std::vector<uint32_t> per(k, 0);
+  uint32_t placed = 0;
+  if (total > 0) {
+    double residual = 0;
+    for (uint32_t p = 0; p < k && placed < count; ++p) {
+      const double want = proxies_[p].error / total * count + residual;
+      const uint32_t n = std::min(uint32_t(std::floor(want)), count - placed);
+      residual = want - n;
+      per[p] = n;
+      placed += n;
+    }
+  }
+  // What rounding left over (or everything, on a zero-error surface) goes to the largest regions.
+  std::vector<uint32_t> order(k);
+  for (uint32_t p = 0; p < k; ++p) order[p] = p;
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return proxies_[a].error + proxies_[a].area > proxies_[b].error + proxies_[b].area;
+  });
+  for (uint32_t i = 0; placed < count; i = (i + 1) % k, ++placed) ++per[order[i]];
+
+  std::vector<uint32_t> dist(m_.num_faces());
+  std::vector<uint32_t> queue;
+  for (uint32_t p = 0; p < k; ++p) {
+    for (uint32_t n = 0; n < per[p]; ++n) {
+      // Hop distance within region p from its seed and the seeds added to it so far.
+      std::fill(dist.begin(), dist.end(), kInvalid);
+      queue.clear();
+      for (uint32_t q = 0; q < proxies_.size(); ++q)
+        if ((q == p || q >= k) && label_[proxies_[q].seed_face] == p) {
+          dist[proxies_[q].seed_face] = 0;
+          queue.push_back(proxies_[q].seed_face);
+        }
+      uint32_t far = queue.front();
+      for (std::size_t qi = 0; qi < queue.size(); ++qi) {
+        const uint32_t f = queue[qi];
+        if (dist[f] > dist[far] || (dist[f] == dist[far] && f < far)) far = f;
+        for (uint32_t i = 0; i < 3; ++i) {
+          const uint32_t h = 3 * f + i;
+          if (!crossable(h)) continue;
+          const uint32_t g = TriMesh::face_of(m_.twin(h));
+          if (label_[g] == p && dist[g] == kInvalid) {
+            dist[g] = dist[f] + 1;
+            queue.push_back(g);
+          }
+        }
+      }
+      if (dist[far] == 0) break;  // a one-face region cannot take another seed
+      proxies_.push_back(proxy_at(far));
+    }
+  }
+}
+
+// CGAL-style teleportation: merge the adjacent pair that costs least and re-seed the freed
+// proxy in the worst region; kept only if the error drops.
+bool Vsa::teleport() {
+  const auto s = sums();
+  const double w = weight();
+  const uint32_t k = uint32_t(proxies_.size());
+  uint32_t worst = 0;
+  for (uint32_t p = 1; p < k; ++p)
+    if (s[p].error(w) > s[worst].error(w)) worst = p;
+  if (s[worst].faces < 2) return false;
+  double best_cost = INFINITY;
+  uint32_t bi = kInvalid, bj = kInvalid;
+  for (uint32_t h = 0; h < m_.num_halfedges(); ++h) {
+    if (!crossable(h)) continue;
+    const uint32_t i = label_[TriMesh::face_of(h)], j = label_[TriMesh::face_of(m_.twin(h))];
+    if (i >= j || i == worst || j == worst) continue;
+    const double cost = s[i].merged(s[j]).error(w) - s[i].error(w) - s[j].error(w);
+    if (cost < best_cost || (cost == best_cost && std::pair(i, j) < std::pair(bi, bj))) {
+      best_cost = cost, bi = i, bj = j;
+    }
+  }
+  if (bi == kInvalid || best_cost >= 0.5 * s[worst].error(w)) return false;
+  const auto saved_labels = label_;
+  const auto saved_proxies = proxies_;
+  const double before = total_error();
+  for (uint32_t& l : label_)
+    if (l == bj) l = bi;
+  uint32_t far = kInvalid;
+  double far_err = -1;
+  for (uint32_t f = 0; f < m_.num_faces(); ++f)
+    if (label_[f] == worst && f != proxies_[worst].seed_face) {
+      const double e = face_error(f, proxies_[worst]);
+      if (e > far_err) far_err = e, far = f;
+    }
+  proxies_[bj] = proxy_at(far);
+  relax(5);
+  if (total_error() < before) return true;
+  label_ = saved_labels;
+  proxies_ = saved_proxies;
+  return false;
+}
+
+// Regions below the size floor are merged into the neighbour they fit best (not across a
+// barrier: a region enclosed by features stays).
+void Vsa::merge_small(double min_area) {
+  while (true) {
+    const auto s = sums();
+    const double w = weight();
+    // A region below 10 faces may merge across a barrier too: features that enclose a few
+    // faces (noise on scans) do not deserve a patch.
+    auto joins = [&](uint32_t h, const RegionSums& r) {
+      return m_.twin(h) != kInvalid && (crossable(h) || r.faces < 10);
+    };
+    std::vector<char> has_neighbour(proxies_.size(), 0);
+    for (uint32_t h = 0; h < m_.num_halfedges(); ++h) {
+      const uint32_t p = label_[TriMesh::face_of(h)];
+      if (joins(h, s[p]) && p != label_[TriMesh::face_of(m_.twin(h))]) has_neighbour[p] = 1;
+    }
+    uint32_t victim = kInvalid;
+    for (uint32_t p = 0; p < proxies_.size(); ++p) {
+      if (s[p].faces >= 10 && s[p].area >= min_area) continue;
+      if (has_neighbour[p] && (victim == kInvalid || s[p].area < s[victim].area)) victim = p;
+    }
+    if (victim == kInvalid || proxies_.size() <= 1) return;
+    uint32_t into = kInvalid;
+    double best = INFINITY;
+    for (uint32_t h = 0; h < m_.num_halfedges(); ++h) {
+      if (label_[TriMesh::face_of(h)] != victim || !joins(h, s[victim])) continue;
+      const uint32_t q = label_[TriMesh::face_of(m_.twin(h))];
+      if (q == victim) continue;
+      const double cost = s[q].merged(s[victim]).error(w) - s[q].error(w);
+      if (cost < best || (cost == best && q < into)) best = cost, into = q;
+    }
+    for (uint32_t& l : label_)
+      if (l == victim) l = into;
+    proxies_.erase(proxies_.begin() + victim);
+    for (uint32_t& l : label_)
+      if (l > victim) --l;
+  }
+}
+
+// Patch ids in order of each patch's first face, so ids do not depend on seeding history.
+void Vsa::compact() {
+  std::vector<uint32_t> remap(proxies_.size(), kInvalid);
+  std::vector<Proxy> ordered;
+  for (uint32_t& l : label_) {
+    if (remap[l] == kInvalid) {
+      remap[l] = uint32_t(ordered.size());
+      ordered.push_back(proxies_[l]);
+    }
+    l = remap[l];
+  }
+  proxies_ = std::move(ordered);
+}
+
+Segmentation Vsa::run() {
+  const uint32_t nf = m_.num_faces();
+  proxies_.push_back(proxy_at(uint32_t(rng_() % nf)));
+  relax(1);
+  const uint32_t k0 = uint32_t(proxies_.size());  // one per barrier-enclosed region
+  const double e1 = total_error();
+  const double h = o_.target_edge_length;
+  const uint32_t k_max = h > 0 ? std::max<uint32_t>(k0, uint32_t(area_ / (16 * h * h))) : std::max(k0, 400u);
+  const uint32_t k_min = std::max<uint32_t>(k0, m_.boundary_loops().empty() ? 6 : 1);
+  const uint32_t target = o_.patches > 0 ? std::max(o_.patches, k0) : k_max;
+  // Hierarchical seeding: double the proxy count by error diffusion, relaxing after each step.
+  while (proxies_.size() < target) {
+    if (o_.patches == 0 && proxies_.size() >= k_min && total_error() <= o_.error_drop * e1) break;
+    const uint32_t k = uint32_t(proxies_.size());
+    add_proxies(std::min(k, target - k));
+    if (proxies_.size() == k) break;  // nowhere left to seed
+    relax(5);
+  }
+  converge();
+  for (uint32_t r = 0; r < o_.teleport_rounds; ++r)
+    if (!teleport()) break;
+  merge_small(h > 0 ? 2 * h * h : 0.0);
+  compact();
+  fit();
+  log_.push_back(total_error());
+
+  Segmentation seg;
+  seg.face_patch = FaceData<uint32_t>(label_);
+  seg.proxies = proxies_;
+  seg.energy_log = log_;
+  return seg;
+}
+
+}  // namespace
+
+Segmentation segment_vsa(const TriMesh& mesh, const EdgeData<char>& barrier, const VsaOptions& options) {
+  return Vsa(mesh, barrier, options).run();
+}
+
+double vsa_energy(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t num_patches,
+                  double compactness) {
+  std::vector<RegionSums> s(num_patches);
+  double area = 0;
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+    const Tri& t = mesh.face(f);
+    const Vec3 c = (mesh.position(t[0]) + mesh.position(t[1]) + mesh.position(t[2])) / 3.0;
+    s[labels[f]].add(mesh.face_area(f), mesh.face_normal(f), c);
+    area += mesh.face_area(f);
+  }
+  double e = 0;
+  for (const auto& r : s) e += r.error(compactness / (area / std::max(num_patches, 1u)));
+  return e;
+}
+
+}  // namespace isoquad

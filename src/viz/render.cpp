@@ -1,0 +1,202 @@
+#include "viz/render.hpp"
+
+#include <algorithm>
+#include <cairo.h>
+#include <cmath>
+
+#include "io/write_mesh.hpp"
+#include "isoquad/error.hpp"
+
+namespace isoquad {
+
+struct Canvas::Surface {
+  cairo_surface_t* surface = nullptr;
+  cairo_t* cr = nullptr;
+  ~Surface() {
+    if (cr) cairo_destroy(cr);
+    if (surface) cairo_surface_destroy(surface);
+  }
+};
+
+Rgb distinct_color(uint32_t i) {
+  const double hue = std::fmod(0.13 + i * 0.6180339887498949, 1.0) * 6.0;
+  const double s = i % 3 == 0 ? 0.55 : (i % 3 == 1 ? 0.40 : 0.65), v = 0.95;
+  const int sector = int(hue);
+  const double f = hue - sector, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  switch (sector % 6) {
+    case 0: return {v, t, p};
+    case 1: return {q, v, p};
+    case 2: return {p, v, t};
+    case 3: return {p, q, v};
+    case 4: return {t, p, v};
+    default: return {v, p, q};
+  }
+}
+
+Canvas::Canvas(int width, int height, const Box3& box, const Camera& camera)
+    : w_(width), h_(height), surface_(std::make_unique<Surface>()) {
+  forward_ = normalized(camera.direction);
+  right_ = normalized(cross(forward_, camera.up));
+  if (squared_norm(right_) == 0) right_ = normalized(cross(forward_, Vec3{1, 0, 0}));
+  up_ = cross(right_, forward_);
+  center_ = box.center();
+  // Fit the projected box (all 8 corners) with a 5% margin.
+  double ext_x = 1e-300, ext_y = 1e-300;
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 p{i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y, i & 4 ? box.hi.z : box.lo.z};
+    ext_x = std::max(ext_x, std::fabs(dot(p - center_, right_)));
+    ext_y = std::max(ext_y, std::fabs(dot(p - center_, up_)));
+  }
+  scale_ = 0.95 * std::min(width / (2 * ext_x), height / (2 * ext_y));
+  bias_ = 2e-3 * box.diagonal();
+  depth_.assign(std::size_t(w_ * ss_) * h_ * ss_, INFINITY);
+  pixels_.assign(depth_.size(), {255, 255, 255});
+  surface_->surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w_, h_);
+  surface_->cr = cairo_create(surface_->surface);
+}
+
+Canvas::~Canvas() = default;
+
+Canvas::Projected Canvas::project(Vec3 p) const {
+  const Vec3 d = p - center_;
+  return {0.5 * w_ + scale_ * dot(d, right_), 0.5 * h_ - scale_ * dot(d, up_), dot(d, forward_)};
+}
+
+void Canvas::raster_triangle(const Vec3& a, const Vec3& b, const Vec3& c, Rgb color) {
+  const Vec3 n = cross(b - a, c - a);
+  if (squared_norm(n) == 0) return;
+  // Lambert with a headlight slightly above-left; back faces are shaded darker.
+  const Vec3 light = normalized(-1.0 * forward_ + 0.35 * up_ - 0.25 * right_);
+  const double cosine = dot(normalized(n), light);
+  const double shade = cosine >= 0 ? 0.25 + 0.75 * cosine : 0.15 + 0.3 * -cosine;
+  const std::array<uint8_t, 3> rgb = {uint8_t(std::clamp(color.r * shade, 0.0, 1.0) * 255),
+                                      uint8_t(std::clamp(color.g * shade, 0.0, 1.0) * 255),
+                                      uint8_t(std::clamp(color.b * shade, 0.0, 1.0) * 255)};
+  Projected p[3] = {project(a), project(b), project(c)};
+  for (auto& q : p) q.x *= ss_, q.y *= ss_;
+  const int W = w_ * ss_, H = h_ * ss_;
+  const int x0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
+  const int x1 = std::min(W - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
+  const int y0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
+  const int y1 = std::min(H - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
+  const double area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+  if (area == 0) return;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const double px = x + 0.5, py = y + 0.5;
+      const double w0 = ((p[1].x - px) * (p[2].y - py) - (p[1].y - py) * (p[2].x - px)) / area;
+      const double w1 = ((p[2].x - px) * (p[0].y - py) - (p[2].y - py) * (p[0].x - px)) / area;
+      const double w2 = 1 - w0 - w1;
+      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+      const float z = float(w0 * p[0].z + w1 * p[1].z + w2 * p[2].z);
+      const std::size_t i = std::size_t(y) * W + x;
+      if (z < depth_[i]) {
+        depth_[i] = z;
+        pixels_[i] = rgb;
+      }
+    }
+}
+
+void Canvas::fill(const TriMesh& mesh, const std::function<Rgb(uint32_t)>& color) {
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+    const Tri& t = mesh.face(f);
+    raster_triangle(mesh.position(t[0]), mesh.position(t[1]), mesh.position(t[2]), color(f));
+  }
+}
+
+void Canvas::fill_polygons(const std::vector<Vec3>& positions, const std::vector<std::vector<uint32_t>>& polygons,
+                           const std::function<Rgb(uint32_t)>& color) {
+  for (uint32_t f = 0; f < polygons.size(); ++f)
+    for (std::size_t i = 1; i + 1 < polygons[f].size(); ++i)
+      raster_triangle(positions[polygons[f][0]], positions[polygons[f][i]], positions[polygons[f][i + 1]],
+                      color(f));
+}
+
+void Canvas::resolve() {
+  if (resolved_) return;
+  resolved_ = true;
+  cairo_surface_flush(surface_->surface);
+  unsigned char* data = cairo_image_surface_get_data(surface_->surface);
+  const int stride = cairo_image_surface_get_stride(surface_->surface);
+  const int W = w_ * ss_;
+  for (int y = 0; y < h_; ++y)
+    for (int x = 0; x < w_; ++x) {
+      int sum[3] = {0, 0, 0};
+      for (int dy = 0; dy < ss_; ++dy)
+        for (int dx = 0; dx < ss_; ++dx) {
+          const auto& px = pixels_[std::size_t(y * ss_ + dy) * W + x * ss_ + dx];
+          for (int k = 0; k < 3; ++k) sum[k] += px[k];
+        }
+      uint32_t* out = reinterpret_cast<uint32_t*>(data + y * stride) + x;
+      const int n = ss_ * ss_;
+      *out = (uint32_t(sum[0] / n) << 16) | (uint32_t(sum[1] / n) << 8) | uint32_t(sum[2] / n);
+    }
+  cairo_surface_mark_dirty(surface_->surface);
+}
+
+bool Canvas::visible(double x, double y, double z) const {
+  const int W = w_ * ss_, H = h_ * ss_;
+  const int cx = int(x * ss_), cy = int(y * ss_);
+  // Visible if any nearby supersample is not clearly in front of the point.
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int sx = cx + dx, sy = cy + dy;
+      if (sx < 0 || sy < 0 || sx >= W || sy >= H) continue;
+      if (z <= depth_[std::size_t(sy) * W + sx] + bias_) return true;
+    }
+  return false;
+}
+
+void Canvas::line(Vec3 a, Vec3 b, Rgb color, double width) {
+  resolve();
+  const Projected pa = project(a), pb = project(b);
+  const int steps = std::max(2, int(std::hypot(pb.x - pa.x, pb.y - pa.y)) + 1);
+  cairo_t* cr = surface_->cr;
+  cairo_set_source_rgb(cr, color.r, color.g, color.b);
+  cairo_set_line_width(cr, width);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+  bool drawing = false;
+  for (int i = 0; i <= steps; ++i) {
+    const double t = double(i) / steps;
+    const double x = pa.x + t * (pb.x - pa.x), y = pa.y + t * (pb.y - pa.y), z = pa.z + t * (pb.z - pa.z);
+    const bool vis = visible(x, y, z);
+    if (vis && !drawing) cairo_move_to(cr, x, y);
+    if (vis) cairo_line_to(cr, x, y);
+    drawing = vis;
+  }
+  cairo_stroke(cr);
+}
+
+void Canvas::point(Vec3 p, Rgb color, double radius) {
+  resolve();
+  const Projected q = project(p);
+  if (!visible(q.x, q.y, q.z)) return;
+  cairo_t* cr = surface_->cr;
+  cairo_arc(cr, q.x, q.y, radius, 0, 2 * M_PI);
+  cairo_set_source_rgb(cr, color.r, color.g, color.b);
+  cairo_fill_preserve(cr);
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  cairo_set_line_width(cr, 0.8);
+  cairo_stroke(cr);
+}
+
+namespace {
+cairo_status_t write_to_stream(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::ostream*>(closure)->write(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+}  // namespace
+
+void Canvas::save_png(const std::filesystem::path& path) {
+  resolve();
+  cairo_surface_flush(surface_->surface);
+  write_file_atomically(
+      path,
+      [&](std::ostream& out) {
+        if (cairo_surface_write_to_png_stream(surface_->surface, write_to_stream, &out) != CAIRO_STATUS_SUCCESS)
+          throw Error(ErrorKind::internal, "E700", "PNG encoding failed");
+      },
+      true);
+}
+
+}  // namespace isoquad
