@@ -7,6 +7,7 @@
 #include "io/read_mesh.hpp"
 #include "io/write_mesh.hpp"
 #include "prep/prepare.hpp"
+#include "pipeline/sizing.hpp"
 #include "prep_options.hpp"
 #include "seg/segment.hpp"
 #include "viz/render.hpp"
@@ -53,10 +54,10 @@ Runner add_segment(CLI::App& app) {
       VsaOptions& o = so.vsa;
       o.patches = a->patches;
       o.seed = a->seed;
-      double area = 0;
-      for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) area += c.mesh.face_area(f);
-      const double quads = a->quads ? a->quads : std::clamp(c.mesh.num_faces() / 8.0, 1000.0, 20000.0);
-      o.target_edge_length = a->edge_length > 0 ? a->edge_length * prep.normalization.scale : std::sqrt(area / quads);
+      const double quads = a->quads ? a->quads : default_quad_count(c.mesh);
+      o.target_edge_length = a->edge_length > 0 ? a->edge_length * prep.normalization.scale
+                                                : edge_length_for_quads(c.mesh, quads);
+      so.meta.corner_window = o.target_edge_length;
       SegmentResult seg = segment(c.mesh, c.feature, so);
       const MetaMesh& mm = seg.meta;
       summary.push_back({{"component", c.report_index},
@@ -73,14 +74,21 @@ Runner add_segment(CLI::App& app) {
                            {"voronoi_splits", seg.repair.voronoi_splits},
                            {"two_path_cuts", seg.repair.two_path_cuts},
                            {"tiny_merged", seg.repair.tiny_merged}}},
+                         {"straighten",
+                          {{"ears", seg.straighten.ears},
+                           {"geodesic", seg.straighten.geodesic},
+                           {"seam_length_before", seg.straighten.seam_length_before / prep.normalization.scale},
+                           {"seam_length_after", seg.straighten.seam_length_after / prep.normalization.scale}}},
                          {"vsa_iterations", seg.energy_log.size()},
                          {"vsa_energy", seg.energy_log.back()}});
       if (!a->json)
         fmt::print("component {}: {} patches ({} from VSA), {} meta-vertices ({} inserted), {} meta-edges, "
-                   "euler {}; repairs: {} split, {} pinches, {} voronoi, {} two-path, {} tiny\n",
+                   "euler {}; repairs: {} split, {} pinches, {} voronoi, {} two-path, {} tiny; straightened {} ears, {} "
+                   "geodesic, seams {:.3g} -> {:.3g}\n",
                    c.report_index, seg.num_patches, seg.vsa_patches, mm.vertices.size(), mm.inserted,
                    mm.edges.size(), mm.euler(), seg.repair.disconnected_split, seg.repair.pinches_fixed,
-                   seg.repair.voronoi_splits, seg.repair.two_path_cuts, seg.repair.tiny_merged);
+                   seg.repair.voronoi_splits, seg.repair.two_path_cuts, seg.repair.tiny_merged, seg.straighten.ears,
+                   seg.straighten.geodesic, seg.straighten.seam_length_before, seg.straighten.seam_length_after);
       const uint32_t base = uint32_t(out.positions.size());
       for (const Vec3& p : c.mesh.positions()) out.positions.push_back(prep.normalization.invert(p));
       for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {

@@ -29,17 +29,46 @@ double angle_at(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t v, 
   return sum;
 }
 
+// Corners of the mesh boundary: the turning (pi minus the mesh angle) summed over a window of
+// arc length on each side must exceed the limit, and the vertex must turn most within it. A
+// single vertex test would fire all along a jagged (sawtooth) boundary.
+std::vector<char> boundary_corners(const TriMesh& m, const MetaMeshOptions& o) {
+  std::vector<char> corner(m.num_vertices(), 0);
+  const double limit = o.boundary_corner_deg * kPi / 180;
+  for (const auto& loop : m.boundary_loops()) {
+    const std::size_t n = loop.size();
+    std::vector<double> turn(n), s(n + 1, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      double theta = 0;
+      m.for_each_outgoing(m.from(loop[i]), [&](uint32_t h) { theta += corner_angle(m, h); });
+      turn[i] = kPi - theta;
+      s[i + 1] = s[i] + norm(m.position(m.to(loop[i])) - m.position(m.from(loop[i])));
+    }
+    const double window = o.corner_window > 0 ? o.corner_window : 3.0 * s[n] / double(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      double sum = turn[i];
+      bool is_max = true;
+      for (int dir : {-1, 1})
+        for (std::size_t k = 1; k < n; ++k) {
+          const std::size_t j = dir > 0 ? (i + k) % n : (i + n - k % n) % n;
+          const double d = std::fabs(s[i] - s[j]);
+          if (std::min(d, s[n] - d) > window) break;
+          sum += turn[j];
+          const double a = std::fabs(turn[j]), b = std::fabs(turn[i]);
+          if (a > b || (a == b && j < i)) is_max = false;
+        }
+      corner[m.from(loop[i])] = is_max && std::fabs(sum) > limit;
+    }
+  }
+  return corner;
+}
+
 std::vector<char> meta_vertex_flags(const TriMesh& m, const FaceData<uint32_t>& labels,
-                                    const MetaMeshOptions& o, const std::vector<char>& inserted) {
+                                    const std::vector<char>& corners, const std::vector<char>& inserted) {
   std::vector<char> meta(m.num_vertices(), 0);
-  const double corner = o.boundary_corner_deg * kPi / 180;
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {
     const std::size_t wedges = wedges_at(m, labels, v).size();
-    if (m.is_boundary_vertex(v))
-      meta[v] = wedges >= 2 || std::fabs(angle_at(m, labels, v, kInvalid) - kPi) > corner;
-    else
-      meta[v] = wedges >= 3;
-    meta[v] = meta[v] || inserted[v];
+    meta[v] = wedges >= (m.is_boundary_vertex(v) ? 2u : 3u) || corners[v] || inserted[v];
   }
   return meta;
 }
@@ -139,11 +168,12 @@ void insert_on_items(const TriMesh& m, const std::vector<uint32_t>& cycle, const
 MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t n,
                          const EdgeData<char>& feature, const MetaMeshOptions& o) {
   std::vector<char> inserted(m.num_vertices(), 0);
+  const std::vector<char> corners = boundary_corners(m, o);
   std::vector<char> meta;
   std::vector<std::vector<uint32_t>> cycles = patch_cycles(m, labels, n);
   uint32_t inserted_count = 0;
   for (int round = 0;; ++round) {
-    meta = meta_vertex_flags(m, labels, o, inserted);
+    meta = meta_vertex_flags(m, labels, corners, inserted);
     bool changed = false;
     for (uint32_t p = 0; p < n; ++p) {
       uint32_t mp = 0;
@@ -159,7 +189,7 @@ MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uin
                                 p, mp, cycles[p].size(), o.min_corners - mp));
       inserted_count += added;
       changed = true;
-      meta = meta_vertex_flags(m, labels, o, inserted);
+      meta = meta_vertex_flags(m, labels, corners, inserted);
     }
     if (!changed) break;
   }

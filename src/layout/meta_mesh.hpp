@@ -54,7 +54,8 @@ struct MetaMesh {
 };
 
 struct MetaMeshOptions {
-  double boundary_corner_deg = 45;  // a boundary vertex turning more than this is a corner
+  double boundary_corner_deg = 45;  // a boundary stretch turning more than this holds a corner
+  double corner_window = 0;         // arc length over which turning is summed (0: 3 mean edges)
   uint32_t min_corners = 4;         // meta-vertices per patch (inserted where fewer)
 };
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "layout/meta_mesh.hpp"
+#include "layout/straighten.hpp"
 #include "seg/disk_patches.hpp"
 #include "seg/vsa.hpp"
 
@@ -11,6 +12,7 @@ namespace isoquad {
 struct SegmentOptions {
   VsaOptions vsa;
   MetaMeshOptions meta;
+  bool straighten = true;
 };
 
 struct SegmentResult {
@@ -18,6 +20,7 @@ struct SegmentResult {
   uint32_t num_patches = 0;
   uint32_t vsa_patches = 0;   // before topology repair
   DiskRepairLog repair;
+  StraightenLog straighten;
   MetaMesh meta;
   std::vector<double> energy_log;
 };

@@ -133,20 +133,23 @@ void Vsa::drop_noise_barriers() {
   }
 }
 
-// Scan noise makes face normals jitter; the metric uses normals averaged twice with their
-// neighbours (not across barriers). The geometry is untouched.
+// Scan noise makes face normals jitter; the metric uses normals averaged twice with those
+// neighbours that turn less than 30 degrees (bilateral: sharp edges stay sharp even where no
+// feature is marked) and not across barriers. The geometry is untouched.
 void Vsa::smooth_normals() {
   const uint32_t nf = m_.num_faces();
   n_.resize(nf);
   for (uint32_t f = 0; f < nf; ++f) n_[f] = m_.face_normal(f);
+  const std::vector<Vec3> raw = n_;
   std::vector<Vec3> next(nf);
+  const double cos_limit = std::cos(30.0 * 3.14159265358979323846 / 180.0);
   for (int it = 0; it < 2; ++it) {
     for (uint32_t f = 0; f < nf; ++f) {
       Vec3 s = a_[f] * n_[f];
       for (uint32_t i = 0; i < 3; ++i)
         if (crossable(3 * f + i)) {
           const uint32_t g = TriMesh::face_of(m_.twin(3 * f + i));
-          s += a_[g] * n_[g];
+          if (dot(raw[f], raw[g]) >= cos_limit) s += a_[g] * n_[g];
         }
       next[f] = squared_norm(s) > 0 ? normalized(s) : n_[f];
     }

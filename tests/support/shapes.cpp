@@ -71,6 +71,46 @@ PolyMesh cube_quads() {
   return m;
 }
 
+PolyMesh subdivided_cube(int n) {
+  PolyMesh m;
+  std::map<std::array<int, 3>, uint32_t> ids;  // shared lattice points on cube edges
+  auto id = [&](std::array<int, 3> g) {
+    auto [it, inserted] = ids.try_emplace(g, uint32_t(m.positions.size()));
+    if (inserted) m.positions.push_back({double(g[0]) / n, double(g[1]) / n, double(g[2]) / n});
+    return it->second;
+  };
+  // For each face: the fixed axis, its value, and two in-plane axes ordered for an outward normal.
+  const int faces[6][4] = {{0, 0, 2, 1}, {0, 1, 1, 2}, {1, 0, 0, 2}, {1, 1, 2, 0}, {2, 0, 1, 0}, {2, 1, 0, 1}};
+  for (const auto& f : faces) {
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        auto g = [&](int a, int b) {
+          std::array<int, 3> p{};
+          p[f[0]] = f[1] * n;
+          p[f[2]] = a;
+          p[f[3]] = b;
+          return id(p);
+        };
+        m.add_face({g(i, j), g(i + 1, j), g(i + 1, j + 1)});
+        m.add_face({g(i, j), g(i + 1, j + 1), g(i, j + 1)});
+      }
+  }
+  return m;
+}
+
+PolyMesh plate_with_hole(int n) {
+  PolyMesh m = grid_plate(n, n);
+  PolyMesh out;
+  out.positions = m.positions;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    Vec3 c;
+    for (uint32_t v : m.face(f)) c += m.positions[v] / 3.0;
+    if (std::fabs(c.x - 0.5) < 0.2 && std::fabs(c.y - 0.5) < 0.2) continue;
+    out.add_face(m.face(f));
+  }
+  return out;
+}
+
 PolyMesh grid_plate(int nx, int ny) {
   PolyMesh m;
   for (int j = 0; j <= ny; ++j)

@@ -1,0 +1,55 @@
+// Segmentation on every corpus mesh at K = auto, 8 and 30: disks, no pinches, at least 4
+// meta-vertices per patch, a consistent meta-mesh with the mesh's Euler characteristic, seams
+// never lengthened, and the same labels on a second run.
+#include <gtest/gtest.h>
+
+#include "corpus.hpp"
+#include "io/read_mesh.hpp"
+#include "pipeline/sizing.hpp"
+#include "prep/prepare.hpp"
+#include "seg_checks.hpp"
+
+using namespace isoquad;
+
+namespace {
+
+const char* kMeshes[] = {"sphere.off",           "cactus.off",       "hand.off",          "cow.off",
+                         "fandisk.off",          "bunny00.off",      "armadillo.off",     "double-torus-example.off",
+                         "eight.off",            "knot1.off",        "rotor.off",         "elephant.off",
+                         "anchor.off",           "mesh_with_border.off", "nefertiti.off", "mushroom.off",
+                         "mech-holes-shark.off", "three_peaks.off",  "cylinder.off"};
+
+using Param = std::tuple<const char*, uint32_t>;
+class CorpusSegment : public testing::TestWithParam<Param> {};
+
+}  // namespace
+
+TEST_P(CorpusSegment, PatchesAreDisksAndMetaMeshIsConsistent) {
+  const auto [file, k] = GetParam();
+  ISOQUAD_CORPUS_MESH(path, file);
+  const PreparedMesh p = prepare(read_mesh(path).mesh);
+  const PreparedComponent& c = p.components.at(0);
+  SegmentOptions o;
+  o.vsa.patches = k;
+  o.vsa.target_edge_length = edge_length_for_quads(c.mesh, default_quad_count(c.mesh));
+  o.meta.corner_window = o.vsa.target_edge_length;
+  const SegmentResult r = segment(c.mesh, c.feature, o);
+  test::expect_valid_segmentation(c.mesh, r);
+  if (k > 0) {
+    EXPECT_GE(r.num_patches, std::min<uint32_t>(k, 8)) << "far fewer patches than asked";
+  }
+  if (c.mesh.num_faces() <= 15000) {
+    const SegmentResult again = segment(c.mesh, c.feature, o);
+    EXPECT_EQ(again.labels.values(), r.labels.values());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusSegment, testing::Combine(testing::ValuesIn(kMeshes), testing::Values(0u, 8u, 30u)),
+                         [](const testing::TestParamInfo<Param>& info) {
+                           std::string n = std::get<0>(info.param);
+                           n = n.substr(0, n.find('.'));
+                           for (char& ch : n)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           const uint32_t k = std::get<1>(info.param);
+                           return n + (k ? "_K" + std::to_string(k) : std::string("_Kauto"));
+                         });
