@@ -42,11 +42,7 @@ Runner add_segment(CLI::App& app) {
     const ReadResult read = read_mesh(a->mesh, a->prep.read_options());
     const PreparedMesh prep = prepare(read.mesh, a->prep.prep_options(read));
     PolyMesh out;
-    struct Shown {
-      const TriMesh* mesh;
-      SegmentResult seg;
-    };
-    std::vector<Shown> shown;
+    std::vector<SegmentResult> shown;
     nlohmann::json summary = nlohmann::json::array();
     uint32_t offset = 0;
     for (const PreparedComponent& c : prep.components) {
@@ -68,6 +64,7 @@ Runner add_segment(CLI::App& app) {
                          {"meta_faces", mm.faces.size()},
                          {"inserted_meta_vertices", mm.inserted},
                          {"euler", mm.euler()},
+                         {"dividing_edges_split", seg.dividing_splits},
                          {"repairs",
                           {{"disconnected_split", seg.repair.disconnected_split},
                            {"pinches_fixed", seg.repair.pinches_fixed},
@@ -89,29 +86,32 @@ Runner add_segment(CLI::App& app) {
                    mm.edges.size(), mm.euler(), seg.repair.disconnected_split, seg.repair.pinches_fixed,
                    seg.repair.voronoi_splits, seg.repair.two_path_cuts, seg.repair.tiny_merged, seg.straighten.ears,
                    seg.straighten.geodesic, seg.straighten.seam_length_before, seg.straighten.seam_length_after);
+      const TriMesh& rm = seg.refined.mesh;
       const uint32_t base = uint32_t(out.positions.size());
-      for (const Vec3& p : c.mesh.positions()) out.positions.push_back(prep.normalization.invert(p));
-      for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {
-        const Tri& t = c.mesh.face(f);
+      for (const Vec3& p : rm.positions()) out.positions.push_back(prep.normalization.invert(p));
+      for (uint32_t f = 0; f < rm.num_faces(); ++f) {
+        const Tri& t = rm.face(f);
         out.add_face({t[0] + base, t[1] + base, t[2] + base});
         out.face_group.push_back(int32_t(seg.labels[f] + offset));
+        const Rgb col = distinct_color(seg.labels[f] + offset);
+        out.face_color.push_back({uint8_t(col.r * 255), uint8_t(col.g * 255), uint8_t(col.b * 255)});
       }
       offset += seg.num_patches;
-      shown.push_back({&c.mesh, std::move(seg)});
+      shown.push_back(std::move(seg));
     }
     if (a->json) std::cout << summary.dump(2) << '\n';
     if (!a->output.empty()) write_mesh(a->output, out);
     if (!a->png.empty()) {
       Box3 box;
-      for (const Shown& s : shown) box.add(s.mesh->bounding_box().lo), box.add(s.mesh->bounding_box().hi);
+      for (const SegmentResult& s : shown) box.add(s.refined.mesh.bounding_box().lo), box.add(s.refined.mesh.bounding_box().hi);
       Canvas canvas(1200, 1000, box, Camera{});
-      for (const Shown& s : shown) {
-        const TriMesh& m = *s.mesh;
-        canvas.fill(m, [&](uint32_t f) { return distinct_color(s.seg.labels[f]); });
-        for (const MetaEdge& e : s.seg.meta.edges)
+      for (const SegmentResult& s : shown) {
+        const TriMesh& m = s.refined.mesh;
+        canvas.fill(m, [&](uint32_t f) { return distinct_color(s.labels[f]); });
+        for (const MetaEdge& e : s.meta.edges)
           for (std::size_t k = 0; k + 1 < e.vertices.size(); ++k)
             canvas.line(m.position(e.vertices[k]), m.position(e.vertices[k + 1]), {0.1, 0.1, 0.1}, 1.6);
-        for (const MetaVertex& v : s.seg.meta.vertices)
+        for (const MetaVertex& v : s.meta.vertices)
           canvas.point(m.position(v.vertex), v.inserted ? Rgb{1.0, 0.85, 0.1} : Rgb{0.9, 0.1, 0.1}, 4.5);
       }
       canvas.save_png(a->png);

@@ -2,6 +2,7 @@
 // index ranges) and what the quad extraction produces. Faces are stored CSR-style.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -16,6 +17,7 @@ struct PolyMesh {
   std::vector<uint32_t> face_offsets{0};  // face f is face_vertices[face_offsets[f] .. face_offsets[f+1])
   std::vector<uint32_t> face_vertices;
   std::vector<int32_t> face_group;  // optional per-face group (patch id); empty or one per face
+  std::vector<std::array<uint8_t, 3>> face_color;  // optional per-face RGB; empty or one per face
 
   std::size_t num_vertices() const { return positions.size(); }
   std::size_t num_faces() const { return face_offsets.size() - 1; }

@@ -83,6 +83,7 @@ void put_le(std::string& buf, T v) {
 
 void write_ply(std::ostream& out, const PolyMesh& m, bool binary) {
   const bool groups = m.face_group.size() == m.num_faces();
+  const bool colors = m.face_color.size() == m.num_faces();
   std::size_t max_face = 0;
   for (std::size_t f = 0; f < m.num_faces(); ++f) max_face = std::max(max_face, m.face(f).size());
   const char* count_type = max_face < 256 ? "uchar" : "uint";
@@ -91,6 +92,7 @@ void write_ply(std::ostream& out, const PolyMesh& m, bool binary) {
       "property double y\nproperty double z\nelement face {}\nproperty list {} int vertex_indices\n",
       binary ? "binary_little_endian" : "ascii", m.num_vertices(), m.num_faces(), count_type);
   if (groups) buf += "property int patch\n";
+  if (colors) buf += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   buf += "end_header\n";
   if (!binary) {
     put_vertices(buf, m, "");
@@ -101,6 +103,7 @@ void write_ply(std::ostream& out, const PolyMesh& m, bool binary) {
         put_uint(buf, v);
       }
       if (groups) buf += fmt::format(" {}", m.face_group[f]);
+      if (colors) buf += fmt::format(" {} {} {}", m.face_color[f][0], m.face_color[f][1], m.face_color[f][2]);
       buf += '\n';
     }
   } else {
@@ -114,6 +117,7 @@ void write_ply(std::ostream& out, const PolyMesh& m, bool binary) {
       else put_le(buf, uint32_t(m.face(f).size()));
       for (uint32_t v : m.face(f)) put_le(buf, int32_t(v));
       if (groups) put_le(buf, int32_t(m.face_group[f]));
+      if (colors) buf.append(reinterpret_cast<const char*>(m.face_color[f].data()), 3);
     }
   }
   out << buf;

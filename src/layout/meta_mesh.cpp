@@ -168,6 +168,7 @@ void insert_on_items(const TriMesh& m, const std::vector<uint32_t>& cycle, const
 MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t n,
                          const EdgeData<char>& feature, const MetaMeshOptions& o) {
   std::vector<char> inserted(m.num_vertices(), 0);
+  for (uint32_t v : o.forced) inserted[v] = 1;
   const std::vector<char> corners = boundary_corners(m, o);
   std::vector<char> meta;
   std::vector<std::vector<uint32_t>> cycles = patch_cycles(m, labels, n);
@@ -196,6 +197,8 @@ MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uin
 
   MetaMesh mm;
   mm.inserted = inserted_count;
+  for (uint32_t v = 0; v < m.num_vertices(); ++v)
+    if (inserted[v]) mm.inserted_vertices.push_back(v);
   mm.vertex_meta_vertex = VertexData<uint32_t>(m.num_vertices(), kInvalid);
   mm.vertex_meta_edge = VertexData<uint32_t>(m.num_vertices(), kInvalid);
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {

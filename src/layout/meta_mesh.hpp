@@ -27,6 +27,7 @@ struct MetaEdge {
   uint32_t right = kInvalid;        // the other patch; kInvalid on the mesh boundary
   bool feature = false;             // every mesh edge on it is a feature edge
   double length = 0;                // length of the polyline
+  double geodesic = 0;              // shortest distance between its ends inside its patches
 };
 
 struct BoundaryItem {
@@ -50,6 +51,7 @@ struct MetaMesh {
   VertexData<uint32_t> vertex_meta_vertex;  // mesh vertex -> meta-vertex, or kInvalid
   VertexData<uint32_t> vertex_meta_edge;    // seam vertex that is not a meta-vertex -> its meta-edge
   uint32_t inserted = 0;                    // meta-vertices inserted to reach 4 per patch
+  std::vector<uint32_t> inserted_vertices;  // their mesh vertices (pass as `forced` to rebuild)
   int64_t euler() const { return int64_t(vertices.size()) - int64_t(edges.size()) + int64_t(faces.size()); }
 };
 
@@ -57,6 +59,7 @@ struct MetaMeshOptions {
   double boundary_corner_deg = 45;  // a boundary stretch turning more than this holds a corner
   double corner_window = 0;         // arc length over which turning is summed (0: 3 mean edges)
   uint32_t min_corners = 4;         // meta-vertices per patch (inserted where fewer)
+  std::vector<uint32_t> forced;     // mesh vertices that are meta-vertices whatever the wedges
 };
 
 // \pre every patch is a disk and not pinched (make_disk_patches).

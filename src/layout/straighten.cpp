@@ -126,7 +126,9 @@ void straighten_seams(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n, 
   log.seam_length_before = seam_length(m, labels, feature);
   log.ears += relabel_ears(m, labels, feature);
   // Junctions only (one inserted point on seam loops without any), so that seams run between them.
-  const MetaMesh junctions = build_meta_mesh(m, labels, n, feature, {.min_corners = 1});
+  MetaMeshOptions one;
+  one.min_corners = 1;
+  const MetaMesh junctions = build_meta_mesh(m, labels, n, feature, one);
   for (const MetaEdge& e : junctions.edges) {
     if (e.right == kInvalid || e.feature || e.mv0 == e.mv1) continue;
     if (smooth_seam(m, labels, n, e)) ++log.geodesic;

@@ -72,6 +72,37 @@ ShortestPaths vertex_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& 
       stop);
 }
 
+double geodesic_distance(const TriMesh& mesh, uint32_t a, uint32_t b,
+                         const std::function<bool(uint32_t)>& face_allowed) {
+  const ShortestPaths sp = dijkstra(
+      mesh.num_vertices(), {a},
+      [&](uint32_t u, auto&& visit) {
+        mesh.for_each_outgoing(u, [&](uint32_t h) {
+          const uint32_t f = TriMesh::face_of(h);
+          if (!face_allowed(f)) return;
+          // Mesh edges u->v and v's predecessor in the face (both edges of face f at u).
+          visit(mesh.to(h), norm(mesh.position(mesh.to(h)) - mesh.position(u)));
+          const uint32_t w = mesh.from(TriMesh::prev(h));
+          visit(w, norm(mesh.position(w) - mesh.position(u)));
+          // Across the opposite edge: the far vertex of the neighbouring face, unfolded.
+          const uint32_t opp = TriMesh::next(h), t = mesh.twin(opp);
+          if (t == kInvalid || !face_allowed(TriMesh::face_of(t))) return;
+          const uint32_t x = mesh.from(TriMesh::prev(t));
+          const Vec3 p = mesh.position(u), q = mesh.position(mesh.to(h)), r = mesh.position(w), s = mesh.position(x);
+          auto angle = [](Vec3 d1, Vec3 d2) { return std::atan2(norm(cross(d1, d2)), dot(d1, d2)); };
+          // Unfold face (q, w, x) into the plane of (u, q, w) around edge q-w.
+          const double at_q = angle(p - q, r - q) + angle(s - q, r - q);
+          const double at_r = angle(p - r, q - r) + angle(s - r, q - r);
+          if (at_q >= M_PI || at_r >= M_PI) return;  // the segment would leave the two faces
+          const double lq = norm(p - q), lx = norm(s - q);
+          const double d2 = lq * lq + lx * lx - 2 * lq * lx * std::cos(at_q);
+          visit(x, std::sqrt(std::max(d2, 0.0)));
+        });
+      },
+      [&](uint32_t v) { return v == b; });
+  return sp.distance[b];
+}
+
 ShortestPaths face_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& sources,
                             const std::function<bool(uint32_t)>& crossable) {
   auto centroid = [&](uint32_t f) {

@@ -27,4 +27,10 @@ ShortestPaths vertex_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& 
 ShortestPaths face_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& sources,
                             const std::function<bool(uint32_t)>& crossable);
 
+// Shortest distance from a to b over the faces where `face_allowed` holds: mesh edges plus, for
+// every pair of allowed faces sharing an edge whose unfolding is convex, the straight segment
+// across both (cuts the staircase error of edge paths from ~10% to a few %).
+double geodesic_distance(const TriMesh& mesh, uint32_t a, uint32_t b,
+                         const std::function<bool(uint32_t)>& face_allowed);
+
 }  // namespace isoquad

@@ -1,6 +1,22 @@
 #include "seg/segment.hpp"
 
+#include "layout/divide_split.hpp"
+#include "seg/geodesic.hpp"
+
 namespace isoquad {
+
+namespace {
+// DESIGN.md §3.4: each meta-edge's length as the shortest distance between its ends inside its
+// one or two patches; facing sides are measured the same way, so the remaining bias cancels.
+void measure_geodesics(const TriMesh& m, const FaceData<uint32_t>& labels, MetaMesh& mm) {
+  for (MetaEdge& e : mm.edges) {
+    const double d = geodesic_distance(m, e.vertices.front(), e.vertices.back(), [&](uint32_t f) {
+      return labels[f] == e.left || labels[f] == e.right;
+    });
+    e.geodesic = d < INFINITY ? std::min(d, e.length) : e.length;
+  }
+}
+}  // namespace
 
 SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature, const SegmentOptions& options) {
   SegmentResult r;
@@ -10,8 +26,18 @@ SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature, const 
   r.labels = std::move(vsa.face_patch);
   r.num_patches = make_disk_patches(mesh, r.labels, r.repair);
   if (options.straighten) straighten_seams(mesh, r.labels, r.num_patches, feature, r.straighten);
-  r.meta = build_meta_mesh(mesh, r.labels, r.num_patches, feature, options.meta);
-  check_meta_mesh(mesh, r.labels, r.meta);
+  const MetaMesh before_split = build_meta_mesh(mesh, r.labels, r.num_patches, feature, options.meta);
+
+  r.refined = identity_refinement(mesh);
+  r.feature = feature;
+  r.dividing_splits = split_dividing_edges(r.refined, r.labels, r.feature);
+  // Splitting keeps vertex ids and seams, so the same meta-vertices (inserted ones forced).
+  MetaMeshOptions again = options.meta;
+  again.forced = before_split.inserted_vertices;
+  r.meta = build_meta_mesh(r.refined.mesh, r.labels, r.num_patches, r.feature, again);
+  r.meta.inserted = before_split.inserted;
+  check_meta_mesh(r.refined.mesh, r.labels, r.meta);
+  measure_geodesics(r.refined.mesh, r.labels, r.meta);
   return r;
 }
 

@@ -2,6 +2,7 @@
 // meta-mesh over them.
 #pragma once
 
+#include "core/refined_mesh.hpp"
 #include "layout/meta_mesh.hpp"
 #include "layout/straighten.hpp"
 #include "seg/disk_patches.hpp"
@@ -16,16 +17,21 @@ struct SegmentOptions {
 };
 
 struct SegmentResult {
-  FaceData<uint32_t> labels;  // patch per face of the mesh
+  RefinedMesh refined;        // the input mesh after the dividing-edge split, with provenance
+  EdgeData<char> feature;     // feature edges of the refined mesh
+  FaceData<uint32_t> labels;  // patch per face of the refined mesh
   uint32_t num_patches = 0;
   uint32_t vsa_patches = 0;   // before topology repair
   DiskRepairLog repair;
   StraightenLog straighten;
-  MetaMesh meta;
+  uint32_t dividing_splits = 0;  // edges split for 3-connectedness
+  MetaMesh meta;                 // on the refined mesh; meta-edges carry geodesic lengths
   std::vector<double> energy_log;
 };
 
-// \throw Error(unsupported_topology, E201) or Error(layout, E301) as the steps do.
+// Runs VSA, topology repair, straightening, the meta-mesh, the dividing-edge split and the
+// geodesic lengths. \throw Error(unsupported_topology, E201) or Error(layout, E301) as the
+// steps do.
 SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature, const SegmentOptions& options);
 
 }  // namespace isoquad

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <set>
 
+#include "layout/divide_split.hpp"
 #include "seg/patch_topology.hpp"
 #include "seg/segment.hpp"
 
@@ -28,7 +29,9 @@ inline bool patch_connected(const TriMesh& m, const FaceData<uint32_t>& labels, 
   return seen.size() == faces.size();
 }
 
-inline void expect_valid_segmentation(const TriMesh& m, const SegmentResult& r) {
+// Checks on the refined mesh (after the dividing-edge split), where labels and meta-mesh live.
+inline void expect_valid_segmentation(const TriMesh& base, const SegmentResult& r) {
+  const TriMesh& m = r.refined.mesh;
   const auto topo = patch_topology(m, r.labels, r.num_patches);
   uint32_t bad = 0;
   for (uint32_t p = 0; p < r.num_patches && bad < 5; ++p) {
@@ -45,6 +48,19 @@ inline void expect_valid_segmentation(const TriMesh& m, const SegmentResult& r) 
   EXPECT_NO_THROW(check_meta_mesh(m, r.labels, r.meta));
   EXPECT_EQ(r.meta.euler(), m.euler_characteristic());
   EXPECT_LE(r.straighten.seam_length_after, r.straighten.seam_length_before * (1 + 1e-12));
+  // 3-connectedness: no interior edge of a patch has both ends on its boundary.
+  EXPECT_TRUE(dividing_edges(m, r.labels).empty());
+  // Provenance: every vertex is reproduced from its base face and barycentric coordinates.
+  for (uint32_t v = 0; v < m.num_vertices(); ++v) {
+    const SurfacePoint sp = r.refined.vertex_origin(v);
+    const Tri& t = base.face(sp.face);
+    const Vec3 p = sp.bary[0] * base.position(t[0]) + sp.bary[1] * base.position(t[1]) + sp.bary[2] * base.position(t[2]);
+    EXPECT_LT(norm(p - m.position(v)), 1e-14) << "vertex " << v;
+  }
+  for (const MetaEdge& e : r.meta.edges) {
+    EXPECT_GT(e.geodesic, 0.0);
+    EXPECT_LE(e.geodesic, e.length * (1 + 1e-12));
+  }
 }
 
 }  // namespace isoquad::test

@@ -17,7 +17,7 @@ PreparedComponent prepared(const PolyMesh& m, double feature_angle = 60) {
   return std::move(p.components.at(0));
 }
 
-void expect_valid(const TriMesh& m, const SegmentResult& r) { test::expect_valid_segmentation(m, r); }
+void expect_valid(const TriMesh& base, const SegmentResult& r) { test::expect_valid_segmentation(base, r); }
 
 SegmentOptions with_patches(uint32_t k, double compactness = 0.05) {
   SegmentOptions o;
@@ -56,10 +56,12 @@ TEST(Vsa, FeatureEdgesAreNeverInsideAPatch) {
   const PreparedComponent c = prepared(test::subdivided_cube(5));
   ASSERT_EQ(std::count(c.feature.begin(), c.feature.end(), 1), 12 * 5);
   const SegmentResult r = segment(c.mesh, c.feature, with_patches(2));
-  for (uint32_t e = 0; e < c.mesh.num_edges(); ++e) {
-    if (!c.feature[e]) continue;
-    const uint32_t h = c.mesh.edge_halfedge(e);
-    EXPECT_NE(r.labels[TriMesh::face_of(h)], r.labels[TriMesh::face_of(c.mesh.twin(h))]);
+  const TriMesh& rm = r.refined.mesh;
+  EXPECT_EQ(std::count(r.feature.begin(), r.feature.end(), 1), 12 * 5);
+  for (uint32_t e = 0; e < rm.num_edges(); ++e) {
+    if (!r.feature[e]) continue;
+    const uint32_t h = rm.edge_halfedge(e);
+    EXPECT_NE(r.labels[TriMesh::face_of(h)], r.labels[TriMesh::face_of(rm.twin(h))]);
   }
   EXPECT_EQ(r.num_patches, 6u);  // one patch per cube face, whatever K asks
   EXPECT_EQ(r.meta.vertices.size(), 8u);
@@ -89,11 +91,12 @@ TEST(Disk, OpenTubeBecomesLongStripsNotRings) {
   const PreparedComponent c = prepared(test::open_cylinder(24, 40));
   const SegmentResult r = segment(c.mesh, c.feature, with_patches(1));
   ASSERT_EQ(r.num_patches, 2u);
+  const TriMesh& rm = r.refined.mesh;
   for (uint32_t p = 0; p < 2; ++p) {  // each strip runs the whole length of the tube
     double lo = INFINITY, hi = -INFINITY;
-    for (uint32_t f = 0; f < c.mesh.num_faces(); ++f)
+    for (uint32_t f = 0; f < rm.num_faces(); ++f)
       if (r.labels[f] == p)
-        for (uint32_t v : c.mesh.face(f)) lo = std::min(lo, c.mesh.position(v).z), hi = std::max(hi, c.mesh.position(v).z);
+        for (uint32_t v : rm.face(f)) lo = std::min(lo, rm.position(v).z), hi = std::max(hi, rm.position(v).z);
     EXPECT_NEAR(hi - lo, c.mesh.bounding_box().hi.z - c.mesh.bounding_box().lo.z, 1e-12);
   }
   expect_valid(c.mesh, r);
