@@ -67,8 +67,7 @@ std::vector<char> meta_vertex_flags(const TriMesh& m, const FaceData<uint32_t>& 
                                     const std::vector<char>& corners, const std::vector<char>& inserted) {
   std::vector<char> meta(m.num_vertices(), 0);
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {
-    const std::size_t wedges = wedges_at(m, labels, v).size();
-    meta[v] = wedges >= (m.is_boundary_vertex(v) ? 2u : 3u) || corners[v] || inserted[v];
+    meta[v] = wedge_count(m, labels, v) >= (m.is_boundary_vertex(v) ? 2u : 3u) || corners[v] || inserted[v];
   }
   return meta;
 }

@@ -55,7 +55,7 @@ uint32_t relabel_ears(const TriMesh& m, FaceData<uint32_t>& labels, const EdgeDa
 }
 
 // Replaces the seam of meta-edge e by the shortest path between its ends inside P and Q.
-bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n, const MetaEdge& e) {
+bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, const MetaEdge& e) {
   const uint32_t p = e.left, q = e.right;
   auto in_pq = [&](uint32_t f) { return labels[f] == p || labels[f] == q; };
   auto inner_edge = [&](uint32_t edge) {
@@ -103,18 +103,20 @@ bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n, const
       }
     }
   }
-  uint32_t left_count = 0, total = 0;
+  uint32_t left_count = 0;
+  std::vector<uint32_t> region;
   for (uint32_t f = 0; f < m.num_faces(); ++f) {
     if (!in_pq(f)) continue;
-    ++total;
+    region.push_back(f);
     left_count += left[f];
     trial[f] = left[f] ? p : q;
   }
+  const uint32_t total = uint32_t(region.size());
   if (left_count == 0 || left_count == total) return false;  // the path does not separate P and Q
   const auto before_a = wedges_at(m, labels, a).size(), before_b = wedges_at(m, labels, b).size();
   if (wedges_at(m, trial, a).size() != before_a || wedges_at(m, trial, b).size() != before_b) return false;
-  const auto topo = patch_topology(m, trial, n);
-  if (!topo[p].is_disk() || !topo[q].is_disk()) return false;
+  const auto topo = local_patch_topology(m, trial, region, {p, q});
+  if (!topo[0].is_disk() || !topo[1].is_disk()) return false;
   labels = std::move(trial);
   return true;
 }
@@ -131,7 +133,7 @@ void straighten_seams(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n, 
   const MetaMesh junctions = build_meta_mesh(m, labels, n, feature, one);
   for (const MetaEdge& e : junctions.edges) {
     if (e.right == kInvalid || e.feature || e.mv0 == e.mv1) continue;
-    if (smooth_seam(m, labels, n, e)) ++log.geodesic;
+    if (smooth_seam(m, labels, e)) ++log.geodesic;
   }
   log.ears += relabel_ears(m, labels, feature);
   log.seam_length_after = seam_length(m, labels, feature);

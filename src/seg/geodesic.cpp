@@ -89,13 +89,22 @@ double geodesic_distance(const TriMesh& mesh, uint32_t a, uint32_t b,
           if (t == kInvalid || !face_allowed(TriMesh::face_of(t))) return;
           const uint32_t x = mesh.from(TriMesh::prev(t));
           const Vec3 p = mesh.position(u), q = mesh.position(mesh.to(h)), r = mesh.position(w), s = mesh.position(x);
-          auto angle = [](Vec3 d1, Vec3 d2) { return std::atan2(norm(cross(d1, d2)), dot(d1, d2)); };
-          // Unfold face (q, w, x) into the plane of (u, q, w) around edge q-w.
-          const double at_q = angle(p - q, r - q) + angle(s - q, r - q);
-          const double at_r = angle(p - r, q - r) + angle(s - r, q - r);
-          if (at_q >= M_PI || at_r >= M_PI) return;  // the segment would leave the two faces
+          // Unfold face (q, w, x) into the plane of (u, q, w) around edge q-w: the angle at q
+          // (and at w) is the sum of the two faces' angles; below pi on both ends the straight
+          // segment stays inside the two faces. Sums via cos/sin products, without trigonometry.
+          struct CosSin {
+            double c, s;
+          };
+          auto cs = [](Vec3 d1, Vec3 d2) {
+            const double l = norm(d1) * norm(d2);
+            return l > 0 ? CosSin{dot(d1, d2) / l, norm(cross(d1, d2)) / l} : CosSin{1, 0};
+          };
+          const CosSin q1 = cs(p - q, r - q), q2 = cs(s - q, r - q);
+          const CosSin r1 = cs(p - r, q - r), r2 = cs(s - r, q - r);
+          if (q1.s * q2.c + q1.c * q2.s <= 0 || r1.s * r2.c + r1.c * r2.s <= 0) return;
+          const double cos_q = q1.c * q2.c - q1.s * q2.s;
           const double lq = norm(p - q), lx = norm(s - q);
-          const double d2 = lq * lq + lx * lx - 2 * lq * lx * std::cos(at_q);
+          const double d2 = lq * lq + lx * lx - 2 * lq * lx * cos_q;
           visit(x, std::sqrt(std::max(d2, 0.0)));
         });
       },

@@ -48,6 +48,58 @@ std::vector<PatchTopology> patch_topology(const TriMesh& mesh, const FaceData<ui
   return t;
 }
 
+std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                                                const std::vector<uint32_t>& faces,
+                                                const std::vector<uint32_t>& patches) {
+  std::vector<PatchTopology> t(patches.size());
+  auto slot = [&](uint32_t p) {
+    return std::size_t(std::find(patches.begin(), patches.end(), p) - patches.begin());
+  };
+  // Scratch marks sized for the mesh (a memset is far cheaper than sorting the region).
+  const std::size_t nv = mesh.num_vertices();
+  std::vector<char> vertex_seen(nv * patches.size(), 0);  // per patch slot
+  std::vector<char> visited(mesh.num_halfedges(), 0);
+  for (uint32_t f : faces) {
+    const std::size_t k = slot(labels[f]);
+    if (k == patches.size()) continue;
+    ++t[k].faces;
+    for (uint32_t i = 0; i < 3; ++i) {
+      const uint32_t h = 3 * f + i, tw = mesh.twin(h);
+      char& seen = vertex_seen[k * nv + mesh.from(h)];
+      if (!seen) ++t[k].vertices;
+      seen = 1;
+      if (tw == kInvalid || labels[TriMesh::face_of(tw)] != labels[f] || h < tw) ++t[k].edges;
+    }
+  }
+  for (uint32_t f : faces) {
+    const std::size_t k = slot(labels[f]);
+    if (k == patches.size()) continue;
+    for (uint32_t i = 0; i < 3; ++i) {
+      const uint32_t h0 = 3 * f + i;
+      if (visited[h0] || !is_patch_boundary(mesh, labels, h0)) continue;
+      ++t[k].boundary_loops;
+      for (uint32_t h = h0; !visited[h]; h = next_patch_boundary_halfedge(mesh, labels, h)) {
+        visited[h] = 1;
+        ++t[k].boundary_edges;
+      }
+    }
+  }
+  return t;
+}
+
+uint32_t wedge_count(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v) {
+  uint32_t changes = 0, first = kInvalid, prev = kInvalid;
+  mesh.for_each_outgoing(v, [&](uint32_t h) {
+    const uint32_t l = labels[TriMesh::face_of(h)];
+    if (first == kInvalid) first = l;
+    else if (l != prev) ++changes;
+    prev = l;
+  });
+  if (mesh.is_boundary_vertex(v)) return changes + 1;
+  if (prev != first) ++changes;  // the fan closes
+  return std::max(changes, 1u);
+}
+
 std::vector<Wedge> wedges_at(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v) {
   std::vector<Wedge> w;
   mesh.for_each_outgoing(v, [&](uint32_t h) {

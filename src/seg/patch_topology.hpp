@@ -21,6 +21,12 @@ struct PatchTopology {
 std::vector<PatchTopology> patch_topology(const TriMesh& mesh, const FaceData<uint32_t>& labels,
                                           uint32_t num_patches);
 
+// The same for a few patches, given all their faces; O(faces) plus a clear of scratch
+// arrays, instead of a pass over the whole mesh.
+std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                                                const std::vector<uint32_t>& faces,
+                                                const std::vector<uint32_t>& patches);
+
 // The boundary halfedge of h's patch that follows h (patch on the left); h must be a boundary
 // halfedge of its patch (its twin in another patch or on the mesh boundary).
 uint32_t next_patch_boundary_halfedge(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t h);
@@ -32,5 +38,7 @@ struct Wedge {
   std::vector<uint32_t> faces;
 };
 std::vector<Wedge> wedges_at(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v);
+// The number of wedges at v, without building them.
+uint32_t wedge_count(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v);
 
 }  // namespace isoquad

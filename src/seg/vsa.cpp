@@ -100,6 +100,7 @@ class Vsa {
   std::vector<double> a_;
   double area_ = 0;
   std::vector<uint32_t> label_;
+  std::vector<double> best_queued_;
   std::vector<Proxy> proxies_;
   std::vector<double> log_;
 };
@@ -160,13 +161,21 @@ void Vsa::smooth_normals() {
 // Distortion-minimizing flooding from the proxies' seed faces.
 void Vsa::flood() {
   std::fill(label_.begin(), label_.end(), kInvalid);
+  // Only an entry that beats the best one already queued for a face can decide its label.
+  std::vector<double>& best = best_queued_;
+  best.assign(m_.num_faces(), INFINITY);
   std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>> queue;
   auto push_neighbours = [&](uint32_t f, uint32_t p) {
     for (uint32_t i = 0; i < 3; ++i) {
       const uint32_t h = 3 * f + i;
       if (!crossable(h)) continue;
       const uint32_t g = TriMesh::face_of(m_.twin(h));
-      if (label_[g] == kInvalid) queue.push({face_error(g, proxies_[p]), g, p});
+      if (label_[g] != kInvalid) continue;
+      const double e = face_error(g, proxies_[p]);
+      if (e <= best[g]) {
+        best[g] = e;
+        queue.push({e, g, p});
+      }
     }
   };
   for (uint32_t p = 0; p < proxies_.size(); ++p) label_[proxies_[p].seed_face] = p;
@@ -373,7 +382,7 @@ bool Vsa::teleport() {
       if (e > far_err) far_err = e, far = f;
     }
   proxies_[bj] = proxy_at(far);
-  relax(5);
+  relax(3);
   if (total_error() < before) return true;
   label_ = saved_labels;
   proxies_ = saved_proxies;
@@ -449,7 +458,7 @@ Segmentation Vsa::run() {
     const uint32_t k = uint32_t(proxies_.size());
     add_proxies(std::min(k, target - k));
     if (proxies_.size() == k) break;  // nowhere left to seed
-    relax(5);
+    relax(3);
   }
   converge();
   for (uint32_t r = 0; r < o_.teleport_rounds; ++r)

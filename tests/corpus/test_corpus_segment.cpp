@@ -36,7 +36,8 @@ TEST_P(CorpusSegment, PatchesAreDisksAndMetaMeshIsConsistent) {
   const SegmentResult r = segment(c.mesh, c.feature, o);
   test::expect_valid_segmentation(c.mesh, r);
   if (k > 0) {
-    EXPECT_GE(r.num_patches, std::min<uint32_t>(k, 8)) << "far fewer patches than asked";
+    // Regions below the size floor may merge, but never most of them.
+    EXPECT_GE(4 * r.num_patches, 3 * k) << "far fewer patches than asked";
   }
   if (c.mesh.num_faces() <= 15000) {
     const SegmentResult again = segment(c.mesh, c.feature, o);
