@@ -90,3 +90,30 @@ TEST(Cli, InfoExplainsWhatRemeshWouldReject) {
   EXPECT_NE(fixed.out.find("repair W101"), std::string::npos) << fixed.out;
   std::filesystem::remove(p);
 }
+
+TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto ply = dir / "isoquad_cli_patches.ply", png = dir / "isoquad_cli_patches.png";
+  const CliRun r = run("segment " + (isoquad::test::data_dir() / "elephant.off").string() + " --patches 12 -o " +
+                       ply.string() + " --png " + png.string() + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc.size(), 1u);
+  EXPECT_GE(doc[0]["patches"].get<int>(), 12);
+  EXPECT_EQ(doc[0]["euler"], -4);  // elephant: genus 3
+  EXPECT_EQ(doc[0]["meta_vertices"].get<int>() - doc[0]["meta_edges"].get<int>() + doc[0]["meta_faces"].get<int>(), -4);
+  // The PLY reads back as a closed genus-3 surface; the PNG starts with the PNG signature.
+  const CliRun info = run("info --json " + ply.string());
+  ASSERT_EQ(info.status, 0) << info.err;
+  EXPECT_EQ(nlohmann::json::parse(info.out)["components"][0]["genus"], 3);
+  std::ifstream in(png, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  EXPECT_EQ(std::string(sig + 1, 3), "PNG");
+  std::filesystem::remove(ply);
+  std::filesystem::remove(png);
+  // Asking for an impossible output format fails cleanly, without a file.
+  const CliRun bad = run("segment " + (isoquad::test::data_dir() / "sphere.off").string() + " -o " + (dir / "x.stl").string());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.stl"));
+}

@@ -1,7 +1,9 @@
 #include <algorithm>
+#include <map>
 #include <gtest/gtest.h>
 #include <set>
 
+#include "core/refined_mesh.hpp"
 #include "prep/prepare.hpp"
 #include "seg/patch_topology.hpp"
 #include "seg/segment.hpp"
@@ -160,4 +162,57 @@ TEST(Straighten, StaircaseSeamGetsShorterAndTopologyIsKept) {
   const auto after = patch_topology(c.mesh, labels, 2);
   EXPECT_TRUE(after[0].is_disk() && after[1].is_disk());
   EXPECT_EQ(build_meta_mesh(c.mesh, labels, 2, c.feature).euler(), 1);
+}
+
+TEST(Meta, Torus2x2IsAMultigraph) {
+  // Four quadrant patches on a torus: each pair of neighbours shares two meta-edges.
+  const int nu = 32, nv = 16;
+  const PreparedComponent c = prepared(test::torus(nu, nv));
+  FaceData<uint32_t> labels(c.mesh.num_faces());
+  for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {
+    const uint32_t input = c.input_face[f];  // torus faces come in pairs per grid cell (i, j)
+    const int i = int(input / 2) / nv, j = int(input / 2) % nv;
+    labels[f] = (i < nu / 2 ? 0 : 1) + (j < nv / 2 ? 0 : 2);
+  }
+  const MetaMesh mm = build_meta_mesh(c.mesh, labels, 4, c.feature);
+  EXPECT_EQ(mm.vertices.size(), 4u);
+  EXPECT_EQ(mm.edges.size(), 8u);
+  EXPECT_EQ(mm.euler(), 0);
+  for (const MetaVertex& v : mm.vertices) EXPECT_EQ(v.wedge_patches.size(), 4u);
+  std::map<std::pair<uint32_t, uint32_t>, int> between;
+  for (const MetaEdge& e : mm.edges) ++between[std::minmax(e.left, e.right)];
+  for (const auto& [pair, count] : between) EXPECT_EQ(count, 2) << pair.first << "-" << pair.second;
+  EXPECT_NO_THROW(check_meta_mesh(c.mesh, labels, mm));
+}
+
+TEST(Refine, SplitEdgesKeepsSurfaceAndProvenance) {
+  const PreparedComponent c = prepared(test::icosphere(2));
+  RefinedMesh r = identity_refinement(c.mesh);
+  // Split one edge, then two edges of one face, then all three of another.
+  const uint32_t f = 10, g = 200;
+  std::vector<uint32_t> edges = {c.mesh.edge(3 * f), c.mesh.edge(3 * f + 1), c.mesh.edge(3 * g),
+                                 c.mesh.edge(3 * g + 1), c.mesh.edge(3 * g + 2), c.mesh.edge(3 * 100)};
+  FaceData<uint32_t> labels(c.mesh.num_faces());
+  for (uint32_t k = 0; k < c.mesh.num_faces(); ++k) labels[k] = k;
+  EdgeData<char> flags(c.mesh.num_edges(), 0);
+  flags[edges[0]] = 1;
+  r = split_edges(r, edges, &labels, &flags);
+  const TriMesh& m = r.mesh;
+  EXPECT_EQ(m.num_vertices(), c.mesh.num_vertices() + 6);
+  EXPECT_EQ(m.euler_characteristic(), 2);
+  EXPECT_EQ(std::count(flags.begin(), flags.end(), 1), 2);  // both halves of the flagged edge
+  double area = 0, base_area = 0;
+  for (uint32_t k = 0; k < m.num_faces(); ++k) {
+    area += m.face_area(k);
+    EXPECT_EQ(labels[k], r.base_face[k]);  // labels follow the pieces
+    EXPECT_GT(dot(m.face_normal(k), c.mesh.face_normal(r.base_face[k])), 0.999999);  // orientation kept
+  }
+  for (uint32_t k = 0; k < c.mesh.num_faces(); ++k) base_area += c.mesh.face_area(k);
+  EXPECT_NEAR(area, base_area, 1e-14);
+  for (uint32_t v = 0; v < m.num_vertices(); ++v) {
+    const SurfacePoint sp = r.vertex_origin(v);
+    const Tri& t = c.mesh.face(sp.face);
+    const Vec3 p = sp.bary[0] * c.mesh.position(t[0]) + sp.bary[1] * c.mesh.position(t[1]) + sp.bary[2] * c.mesh.position(t[2]);
+    EXPECT_LT(norm(p - m.position(v)), 1e-15);
+  }
 }
