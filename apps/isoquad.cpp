@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   };
   add(isoquad::cli::add_info);
   add(isoquad::cli::add_segment);
+  add(isoquad::cli::add_layout);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -14,34 +14,18 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-double corner_angle(const TriMesh& m, uint32_t h) {  // angle at from(h) in h's face
-  const Vec3 p = m.position(m.from(h));
-  const Vec3 a = m.position(m.to(h)) - p, b = m.position(m.from(TriMesh::prev(h))) - p;
-  return std::atan2(norm(cross(a, b)), dot(a, b));
-}
-
-// Sum of the face angles at v over the faces of patch p (of every face if p is kInvalid).
-double angle_at(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t v, uint32_t p) {
-  double sum = 0;
-  m.for_each_outgoing(v, [&](uint32_t h) {
-    if (p == kInvalid || labels[TriMesh::face_of(h)] == p) sum += corner_angle(m, h);
-  });
-  return sum;
-}
-
 // Corners of the mesh boundary: the turning (pi minus the mesh angle) summed over a window of
 // arc length on each side must exceed the limit, and the vertex must turn most within it. A
 // single vertex test would fire all along a jagged (sawtooth) boundary.
 std::vector<char> boundary_corners(const TriMesh& m, const MetaMeshOptions& o) {
   std::vector<char> corner(m.num_vertices(), 0);
+  const FaceData<uint32_t> no_labels(m.num_faces(), 0);
   const double limit = o.boundary_corner_deg * kPi / 180;
   for (const auto& loop : m.boundary_loops()) {
     const std::size_t n = loop.size();
     std::vector<double> turn(n), s(n + 1, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
-      double theta = 0;
-      m.for_each_outgoing(m.from(loop[i]), [&](uint32_t h) { theta += corner_angle(m, h); });
-      turn[i] = kPi - theta;
+      turn[i] = kPi - patch_angle(m, no_labels, m.from(loop[i]), kInvalid);
       s[i + 1] = s[i] + norm(m.position(m.to(loop[i])) - m.position(m.from(loop[i])));
     }
     const double window = o.corner_window > 0 ? o.corner_window : 3.0 * s[n] / double(n);
@@ -107,7 +91,7 @@ void insert_four(const TriMesh& m, const FaceData<uint32_t>& labels, const std::
   std::vector<std::size_t> order(cycle.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::vector<double> turn(cycle.size());
-  for (std::size_t i = 0; i < cycle.size(); ++i) turn[i] = std::fabs(kPi - angle_at(m, labels, m.from(cycle[i]), p));
+  for (std::size_t i = 0; i < cycle.size(); ++i) turn[i] = std::fabs(kPi - patch_angle(m, labels, m.from(cycle[i]), p));
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return turn[a] > turn[b]; });
   std::vector<std::size_t> chosen;
   for (std::size_t i : order) {
@@ -129,9 +113,13 @@ void insert_four(const TriMesh& m, const FaceData<uint32_t>& labels, const std::
   for (std::size_t i : chosen) inserted[m.from(cycle[i])] = 1;
 }
 
-// Splits the longest stretches between meta-vertices at their arc-length midpoints.
-void insert_on_items(const TriMesh& m, const std::vector<uint32_t>& cycle, const std::vector<char>& meta,
-                     std::vector<char>& inserted, uint32_t count) {
+// Splits the longest stretches between meta-vertices at their arc-length midpoints. A stretch
+// shared with a patch that has 4 meta-vertices or more (or with the mesh boundary) is preferred:
+// that patch can take the new point as a 180-degree side point, whereas between two 4-sided
+// patches it would be a corner on both sides, a valence-2 vertex.
+void insert_on_items(const TriMesh& m, const FaceData<uint32_t>& labels, const std::vector<uint32_t>& cycle,
+                     const std::vector<char>& meta, const std::vector<uint32_t>& meta_count, std::vector<char>& inserted,
+                     uint32_t count) {
   std::vector<char> is_meta(cycle.size());
   for (std::size_t i = 0; i < cycle.size(); ++i) is_meta[i] = meta[m.from(cycle[i])] || inserted[m.from(cycle[i])];
   for (uint32_t k = 0; k < count; ++k) {
@@ -144,8 +132,11 @@ void insert_on_items(const TriMesh& m, const std::vector<uint32_t>& cycle, const
       double len = edge_length(m, cycle[a]);
       std::size_t n = 1;
       while (!is_meta[b]) len += edge_length(m, cycle[b]), b = (b + 1) % cycle.size(), ++n;
-      if (n >= 2 && len > best_len) {
-        best_len = len, best_start = a;
+      const uint32_t t = m.twin(cycle[a]);
+      const bool roomy = t == kInvalid || meta_count[labels[TriMesh::face_of(t)]] >= 4;
+      const double score = roomy ? len : 0.25 * len;
+      if (n >= 2 && score > best_len) {
+        best_len = score, best_start = a;
         double acc = 0;
         std::size_t i = a;
         while (acc + edge_length(m, cycle[i]) < len / 2) acc += edge_length(m, cycle[i]), i = (i + 1) % cycle.size();
@@ -174,6 +165,9 @@ MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uin
   uint32_t inserted_count = 0;
   for (int round = 0;; ++round) {
     meta = meta_vertex_flags(m, labels, corners, inserted);
+    std::vector<uint32_t> meta_count(n, 0);
+    for (uint32_t p = 0; p < n; ++p)
+      for (uint32_t h : cycles[p]) meta_count[p] += meta[m.from(h)];
     bool changed = false;
     for (uint32_t p = 0; p < n; ++p) {
       uint32_t mp = 0;
@@ -181,7 +175,7 @@ MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uin
       if (mp >= o.min_corners) continue;
       const uint32_t before = uint32_t(std::count(inserted.begin(), inserted.end(), 1));
       if (mp == 0) insert_four(m, labels, cycles[p], inserted, o.min_corners);
-      else insert_on_items(m, cycles[p], meta, inserted, o.min_corners - mp);
+      else insert_on_items(m, labels, cycles[p], meta, meta_count, inserted, o.min_corners - mp);
       const uint32_t added = uint32_t(std::count(inserted.begin(), inserted.end(), 1)) - before;
       if (added + mp < o.min_corners || round > 8)
         throw Error(ErrorKind::layout, "E301",

@@ -1,6 +1,7 @@
 #include "seg/patch_topology.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace isoquad {
 
@@ -85,6 +86,17 @@ std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh, const FaceD
     }
   }
   return t;
+}
+
+double patch_angle(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v, uint32_t p) {
+  double sum = 0;
+  mesh.for_each_outgoing(v, [&](uint32_t h) {
+    if (p != kInvalid && labels[TriMesh::face_of(h)] != p) return;
+    const Vec3 o = mesh.position(v);
+    const Vec3 a = mesh.position(mesh.to(h)) - o, b = mesh.position(mesh.from(TriMesh::prev(h))) - o;
+    sum += std::atan2(norm(cross(a, b)), dot(a, b));
+  });
+  return sum;
 }
 
 uint32_t wedge_count(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v) {

@@ -32,6 +32,9 @@ std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh, const FaceD
 uint32_t next_patch_boundary_halfedge(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t h);
 bool is_patch_boundary(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t h);
 
+// Sum of the face angles at v over the faces of patch p (over every face if p is kInvalid).
+double patch_angle(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v, uint32_t p);
+
 // Maximal runs of equal labels around a vertex, in CCW order.
 struct Wedge {
   uint32_t patch;

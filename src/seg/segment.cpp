@@ -5,10 +5,7 @@
 
 namespace isoquad {
 
-namespace {
-// DESIGN.md §3.4: each meta-edge's length as the shortest distance between its ends inside its
-// one or two patches; facing sides are measured the same way, so the remaining bias cancels.
-void measure_geodesics(const TriMesh& m, const FaceData<uint32_t>& labels, MetaMesh& mm) {
+void measure_geodesic_lengths(const TriMesh& m, const FaceData<uint32_t>& labels, MetaMesh& mm) {
   for (MetaEdge& e : mm.edges) {
     const double d = geodesic_distance(m, e.vertices.front(), e.vertices.back(), [&](uint32_t f) {
       return labels[f] == e.left || labels[f] == e.right;
@@ -16,7 +13,6 @@ void measure_geodesics(const TriMesh& m, const FaceData<uint32_t>& labels, MetaM
     e.geodesic = d < INFINITY ? std::min(d, e.length) : e.length;
   }
 }
-}  // namespace
 
 SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature, const SegmentOptions& options) {
   SegmentResult r;
@@ -37,7 +33,7 @@ SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature, const 
   r.meta = build_meta_mesh(r.refined.mesh, r.labels, r.num_patches, r.feature, again);
   r.meta.inserted = before_split.inserted;
   check_meta_mesh(r.refined.mesh, r.labels, r.meta);
-  measure_geodesics(r.refined.mesh, r.labels, r.meta);
+  measure_geodesic_lengths(r.refined.mesh, r.labels, r.meta);
   return r;
 }
 

@@ -29,6 +29,10 @@ struct SegmentResult {
   std::vector<double> energy_log;
 };
 
+// Sets every meta-edge's geodesic length (DESIGN.md §3.4): the shortest distance between its
+// ends inside its one or two patches (facing sides measured alike, so the bias cancels).
+void measure_geodesic_lengths(const TriMesh& mesh, const FaceData<uint32_t>& labels, MetaMesh& meta);
+
 // Runs VSA, topology repair, straightening, the meta-mesh, the dividing-edge split and the
 // geodesic lengths. \throw Error(unsupported_topology, E201) or Error(layout, E301) as the
 // steps do.

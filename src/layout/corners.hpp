@@ -1,0 +1,48 @@
+// Corner assignment (paper §3.3; DESIGN.md §4): four meta-vertices of every patch become the
+// rectangle's corners. Candidates per patch are scored by the paper's facing-side length
+// difference plus an angle term; a small ILP then picks one candidate per patch so that the
+// quad valence at each meta-vertex (its quarter turns a_v) stays near regular.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "layout/layout.hpp"
+
+namespace isoquad {
+
+struct CornerCandidate {
+  std::array<uint32_t, 4> items;  // cycle item indices, increasing
+  double cost = 0;
+};
+
+struct CornerChoice {
+  std::vector<std::array<uint32_t, 4>> corners;  // per patch
+  std::vector<uint32_t> chosen;                  // candidate index per patch
+  std::vector<int> quarter_turns;                // a_v per meta-vertex
+  double cost = 0;
+  double seconds = 0;
+  bool softened = false;  // the valence bounds had to be relaxed
+};
+
+// Per patch, the best `keep` candidates (all of them for keep == 0), best first.
+std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                                                            const MetaMesh& meta, double angle_weight,
+                                                            uint32_t keep);
+
+// Picks one candidate per patch. With `require_feasible`, the ILP also carries continuous
+// meta-edge lengths in [1, 100] and, for the chosen candidate of each patch only (big-M), its
+// two facing-side equations: whatever it returns admits positive lengths (DESIGN.md §5.4,
+// corner re-assignment, done exactly instead of by trial and no-good cuts).
+// \throw Error(layout, E401) when no choice exists.
+CornerChoice choose_corners(const TriMesh& mesh, const MetaMesh& meta,
+                            const std::vector<std::vector<CornerCandidate>>& candidates, const LayoutOptions& options,
+                            bool require_feasible = false);
+
+// Quarter turns per meta-vertex for given corners (1 where a patch has a corner, 2 elsewhere).
+std::vector<int> quarter_turns(const MetaMesh& meta, const std::vector<std::array<uint32_t, 4>>& corners);
+
+// The regular value of a_v: 4 inside, the mesh angle in quarter turns (1..3) on the boundary.
+int regular_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, uint32_t mv);
+
+}  // namespace isoquad

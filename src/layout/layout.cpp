@@ -1,0 +1,141 @@
+#include "layout/layout.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <optional>
+#include <set>
+
+#include "isoquad/error.hpp"
+#include "layout/charts.hpp"
+#include "layout/corners.hpp"
+#include "layout/quantize.hpp"
+#include "pipeline/sizing.hpp"
+#include "seg/segment.hpp"
+
+namespace isoquad {
+
+namespace {
+
+struct Feasible {
+  CornerChoice corners;
+  std::vector<std::vector<uint8_t>> sides;
+  std::vector<SideRow> rows;
+};
+
+// Corners whose side equations admit positive lengths: the plain choice if it is feasible, else
+// the feasibility-aware ILP over the best candidates, then over many more. Empty if none is
+// found; `zero` then holds the forced-zero meta-edges of the plain choice.
+std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
+                                         const LayoutOptions& o, LayoutReport& report, std::vector<uint32_t>& zero) {
+  for (const uint32_t keep : {o.candidates_per_patch, o.candidates_per_patch, 4 * o.candidates_per_patch}) {
+    const bool exact = report.corner_rounds > 0;
+    const auto cands = corner_candidates(mesh, labels, meta, o.angle_weight, keep);
+    Feasible f;
+    try {
+      f.corners = choose_corners(mesh, meta, cands, o, exact);
+    } catch (const Error& e) {
+      if (e.code() != "E401") throw;
+      ++report.corner_rounds;
+      continue;
+    }
+    ++report.corner_rounds;
+    report.corner_seconds += f.corners.seconds;
+    f.sides = item_sides(meta, f.corners.corners);
+    f.rows = side_equations(meta, f.sides);
+    const Feasibility test = check_feasibility(uint32_t(meta.edges.size()), f.rows);
+    report.corner_seconds += test.seconds;
+    if (test.feasible) {
+      if (exact) report.repairs.push_back(fmt::format("corners re-chosen by the feasibility-aware ILP ({} candidates per patch)", keep));
+      return f;
+    }
+    if (!exact) {
+      zero = test.forced_zero;
+      report.repairs.push_back(fmt::format("the best corners force {} meta-edges to length 0", zero.size()));
+    }
+  }
+  return std::nullopt;
+}
+
+// DESIGN.md §5.4 step 2: a meta-vertex at the middle of each forced-zero meta-edge (that has a
+// vertex inside) gives the patches an even side count to balance. Returns false if none fits.
+bool insert_on_zero_edges(const TriMesh& mesh, const FaceData<uint32_t>& labels, const EdgeData<char>& feature,
+                          MetaMesh& meta, const std::vector<uint32_t>& zero, LayoutReport& report) {
+  MetaMeshOptions again;
+  again.forced = meta.inserted_vertices;
+  uint32_t added = 0;
+  for (uint32_t e : zero) {
+    const MetaEdge& me = meta.edges[e];
+    if (me.vertices.size() < 3) continue;
+    again.forced.push_back(me.vertices[me.vertices.size() / 2]);
+    ++added;
+  }
+  if (added == 0) return false;
+  const uint32_t before = meta.inserted;
+  meta = build_meta_mesh(mesh, labels, uint32_t(meta.faces.size()), feature, again);
+  meta.inserted = before + added;
+  measure_geodesic_lengths(mesh, labels, meta);
+  report.repairs.push_back(fmt::format("inserted {} meta-vertices on forced-zero meta-edges", added));
+  return true;
+}
+
+}  // namespace
+
+Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const EdgeData<char>& feature, MetaMesh& meta,
+                    const LayoutOptions& o, LayoutReport& report) {
+  std::optional<Feasible> f;
+  for (int insertion = 0; insertion < 4 && !f; ++insertion) {
+    std::vector<uint32_t> zero;
+    f = feasible_corners(mesh, labels, meta, o, report, zero);
+    if (!f && !insert_on_zero_edges(mesh, labels, feature, meta, zero, report)) break;
+  }
+  if (!f)
+    throw Error(ErrorKind::layout, "E402",
+                "no corner assignment or meta-vertex insertion makes the integer lengths feasible");
+
+  Layout layout;
+  layout.quarter_turns = f->corners.quarter_turns;
+  const bool by_count = o.edge_length <= 0;
+  const double wanted = o.quads > 0 ? o.quads : default_quad_count(mesh);
+  double h = by_count ? edge_length_for_quads(mesh, wanted) : o.edge_length;
+  // Tune h so that the quad count lands near the request: area scales with 1/h^2.
+  Lengths best;
+  double best_h = h, best_miss = INFINITY;
+  double h_small = 0, h_large = INFINITY;  // bracket: too many quads at h_small, too few at h_large
+  for (int round = 0; round < (by_count ? 8 : 1); ++round) {
+    std::vector<double> c(meta.edges.size());
+    uint32_t tiny = 0;
+    for (uint32_t e = 0; e < c.size(); ++e) {
+      c[e] = meta.edges[e].geodesic / h;
+      tiny += c[e] < 0.5;
+    }
+    if (round == 0 && 4 * tiny > c.size())
+      throw Error(ErrorKind::layout, "E501",
+                  fmt::format("target edge length too large: {} of {} meta-edges are shorter than half of it; use a "
+                              "smaller --edge-length, more --quads or fewer --patches",
+                              tiny, c.size()));
+    Lengths l = solve_lengths(c, f->rows, o.time_limit);
+    ++report.size_rounds;
+    report.length_seconds += l.seconds;
+    layout.length = l.x;
+    build_charts(meta, f->sides, layout);
+    const double q = double(layout.quads());
+    const double miss = std::fabs(q - wanted) / wanted;
+    if (miss < best_miss) best_miss = miss, best = l, best_h = h, layout.target = c;
+    if (!by_count || miss <= 0.03) break;
+    (q > wanted ? h_small : h_large) = h;
+    // Area scales with 1/h^2; once both sides are known, bisect (geometrically) inside them.
+    h = h_small > 0 && h_large < INFINITY ? std::sqrt(h_small * h_large) : h * std::sqrt(q / wanted);
+  }
+  layout.length = best.x;
+  layout.objective = best.objective;
+  layout.edge_length = best_h;
+  for (uint32_t e = 0; e < meta.edges.size(); ++e) layout.target[e] = meta.edges[e].geodesic / best_h;
+  report.length_solver = best.solver;
+  report.length_optimal = best.optimal;
+  build_charts(meta, f->sides, layout);
+  check_layout(mesh, labels, meta, layout);
+  return layout;
+}
+
+}  // namespace isoquad

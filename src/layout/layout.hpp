@@ -1,0 +1,63 @@
+// Layout (paper §3.3 and §5; DESIGN.md §4-6): every patch becomes a W x H rectangle with its
+// meta-vertices on lattice points. Four meta-vertices per patch are chosen as corners, every
+// meta-edge gets an integer length (an ILP), and each meta-edge gets the transition (rotation
+// by k quarter turns and an integer jump) from its left chart to its right chart.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/transition.hpp"
+#include "layout/meta_mesh.hpp"
+
+namespace isoquad {
+
+struct Chart {
+  std::array<uint32_t, 4> corners{};  // cycle item indices of corners 0..3 (CCW), corner 0 at (0,0)
+  int64_t width = 0, height = 0;
+  std::vector<Lattice> item_position;  // lattice point of each cycle item's start (its meta-vertex)
+  std::vector<uint8_t> item_side;      // side 0..3 of each cycle item
+};
+
+struct Layout {
+  std::vector<Chart> charts;            // one per patch
+  std::vector<int> quarter_turns;       // a_v per meta-vertex: number of quads at it (x 90 deg)
+  std::vector<double> target;           // c_e per meta-edge (geodesic length / h)
+  std::vector<int64_t> length;          // x_e per meta-edge
+  std::vector<Transition> transition;   // per meta-edge, left chart -> right chart
+  double edge_length = 0;               // h used (mesh units)
+  double objective = 0;                 // sum w_e |x_e - c_e|
+  int64_t quads() const;
+};
+
+enum class CornerMode { global, local };
+
+struct LayoutOptions {
+  double edge_length = 0;          // target h (mesh units); 0: from `quads`
+  double quads = 0;                // target quad count; the size is tuned to land within 10%
+  CornerMode corners = CornerMode::global;
+  double angle_weight = 0.5;       // beta in the corner cost (0: paper's length-only cost)
+  double valence_weight = 0.5;     // mu: penalty per quarter turn of singularity
+  uint32_t candidates_per_patch = 8;
+  double time_limit = 10;          // seconds per ILP
+};
+
+struct LayoutReport {
+  std::vector<std::string> repairs;  // what was done to make the layout feasible
+  uint32_t corner_rounds = 0;        // corner ILPs solved (no-good cuts add rounds)
+  uint32_t size_rounds = 0;          // length ILPs solved while tuning the size
+  double corner_seconds = 0, length_seconds = 0;
+  std::string length_solver;         // "cbc" or "flow"
+  bool length_optimal = false;
+};
+
+// Chooses corners, tests feasibility and repairs (re-choosing corners with no-good cuts, then
+// inserting meta-vertices on forced-zero meta-edges, which rebuilds `meta`), solves the integer
+// lengths (tuning h to land near options.quads), and builds the charts and transitions.
+// \throw Error(layout, E501) when the target size is far too coarse for the patches,
+//        Error(layout, E402) when no repair makes the layout feasible.
+Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const EdgeData<char>& feature,
+                    MetaMesh& meta, const LayoutOptions& options, LayoutReport& report);
+
+}  // namespace isoquad

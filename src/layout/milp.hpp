@@ -1,0 +1,43 @@
+// A small mixed-integer / linear program and its solution by COIN-OR CBC (integer) or Clp
+// (continuous). The only place that talks to the solvers; everything else builds a MilpProblem.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace isoquad {
+
+struct MilpProblem {
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  struct Row {
+    std::vector<uint32_t> columns;
+    std::vector<double> values;
+    double lo = -kInf, hi = kInf;
+  };
+  std::vector<double> objective;  // minimized
+  std::vector<double> col_lo, col_hi;
+  std::vector<char> integer;
+  std::vector<Row> rows;
+
+  uint32_t add_column(double cost, double lo, double hi, bool is_integer);
+  void add_row(Row row) { rows.push_back(std::move(row)); }
+};
+
+struct MilpResult {
+  enum class Status { optimal, feasible, infeasible, failed };
+  Status status = Status::failed;
+  std::vector<double> x;
+  double objective = 0;
+  double seconds = 0;
+  bool found() const { return status == Status::optimal || status == Status::feasible; }
+};
+
+// Branch and bound with CBC; `time_limit` seconds; stops once within `relative_gap` of the
+// bound (0: proven optimal). Deterministic (single thread).
+MilpResult solve_milp(const MilpProblem& problem, double time_limit = 10.0, double relative_gap = 0.0);
+// The LP relaxation with Clp (integrality ignored).
+MilpResult solve_lp(const MilpProblem& problem);
+
+}  // namespace isoquad

@@ -1,0 +1,120 @@
+#include "layout/quantize.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "isoquad/error.hpp"
+#include "layout/milp.hpp"
+
+namespace isoquad {
+
+std::vector<std::vector<uint8_t>> item_sides(const MetaMesh& meta, const std::vector<std::array<uint32_t, 4>>& corners) {
+  std::vector<std::vector<uint8_t>> sides(meta.faces.size());
+  for (uint32_t p = 0; p < meta.faces.size(); ++p) {
+    const MetaFace& f = meta.faces[p];
+    const auto& c = corners[p];
+    uint32_t first = 0;  // corner whose meta-vertex id is smallest
+    for (uint32_t k = 1; k < 4; ++k)
+      if (f.start_vertex(c[k], meta.edges) < f.start_vertex(c[first], meta.edges)) first = k;
+    sides[p].assign(f.cycle.size(), 0);
+    for (uint32_t k = 0; k < 4; ++k) {
+      const uint32_t from = c[(first + k) % 4], to = c[(first + k + 1) % 4];
+      for (uint32_t i = from; i != to; i = (i + 1) % uint32_t(f.cycle.size())) sides[p][i] = uint8_t(k);
+    }
+  }
+  return sides;
+}
+
+std::vector<SideRow> side_equations(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>& sides) {
+  std::vector<SideRow> rows;
+  for (uint32_t p = 0; p < meta.faces.size(); ++p) {
+    SideRow r[2];
+    for (uint32_t i = 0; i < meta.faces[p].cycle.size(); ++i) {
+      const uint8_t s = sides[p][i];
+      r[s % 2].push_back({meta.faces[p].cycle[i].edge, s < 2 ? 1 : -1});
+    }
+    rows.push_back(std::move(r[0]));
+    rows.push_back(std::move(r[1]));
+  }
+  return rows;
+}
+
+namespace {
+MilpProblem homogeneous(uint32_t n, const std::vector<SideRow>& rows) {
+  MilpProblem lp;
+  for (uint32_t e = 0; e < n; ++e) lp.add_column(0, 0, 1, false);
+  for (const SideRow& r : rows) {
+    MilpProblem::Row row;
+    for (const auto& [e, sign] : r) row.columns.push_back(e), row.values.push_back(sign);
+    row.lo = row.hi = 0;
+    lp.add_row(std::move(row));
+  }
+  return lp;
+}
+}  // namespace
+
+Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
+  Feasibility f;
+  // Grow the support: maximize the sum of the edges not yet known to be positive. Feasible
+  // points combine, so this reaches the maximal support in a few LPs.
+  std::vector<char> positive(n, 0);
+  for (int round = 0; round < 64; ++round) {
+    MilpProblem lp = homogeneous(n, rows);
+    for (uint32_t e = 0; e < n; ++e) lp.objective[e] = positive[e] ? 0 : -1;
+    const MilpResult r = solve_lp(lp);
+    f.seconds += r.seconds;
+    if (!r.found()) break;
+    bool grew = false;
+    for (uint32_t e = 0; e < n; ++e)
+      if (!positive[e] && r.x[e] > 1e-9) positive[e] = 1, grew = true;
+    if (!grew) break;
+  }
+  for (uint32_t e = 0; e < n; ++e)
+    if (!positive[e]) f.forced_zero.push_back(e);
+  f.feasible = f.forced_zero.empty();
+  return f;
+}
+
+namespace {
+MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows, double time_limit, bool bounded) {
+  const uint32_t n = uint32_t(c.size());
+  MilpProblem ilp;
+  for (uint32_t e = 0; e < n; ++e)  // x_e; the bound keeps the search small, and is dropped if it bites
+    ilp.add_column(0, 1, bounded ? std::max(4 * c[e], c[e] + 20) : MilpProblem::kInf, true);
+  std::vector<uint32_t> t(n);
+  for (uint32_t e = 0; e < n; ++e) {
+    t[e] = ilp.add_column(1.0 / std::max(c[e], 1.0), 0, MilpProblem::kInf, false);
+    ilp.add_row({{e, t[e]}, {1, -1}, -MilpProblem::kInf, c[e]});  // x - t <= c
+    ilp.add_row({{e, t[e]}, {1, 1}, c[e], MilpProblem::kInf});    // x + t >= c
+  }
+  for (const SideRow& r : rows) {
+    MilpProblem::Row row;
+    for (const auto& [e, sign] : r) row.columns.push_back(e), row.values.push_back(sign);
+    row.lo = row.hi = 0;
+    ilp.add_row(std::move(row));
+  }
+  return solve_milp(ilp, time_limit);
+}
+}  // namespace
+
+Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& rows, double time_limit) {
+  const uint32_t n = uint32_t(c.size());
+  MilpResult res = length_ilp(c, rows, time_limit, true);
+  if (!res.found()) res = length_ilp(c, rows, time_limit, false);
+  if (!res.found())
+    throw Error(ErrorKind::solver, "E502",
+                fmt::format("the integer length program found no solution in {} s", time_limit));
+  Lengths out;
+  out.solver = "cbc";
+  out.seconds = res.seconds;
+  out.optimal = res.status == MilpResult::Status::optimal;
+  out.x.resize(n);
+  for (uint32_t e = 0; e < n; ++e) {
+    out.x[e] = std::llround(res.x[e]);
+    out.objective += std::fabs(double(out.x[e]) - c[e]) / std::max(c[e], 1.0);
+  }
+  return out;
+}
+
+}  // namespace isoquad

@@ -1,0 +1,42 @@
+// Integer meta-edge lengths (paper §3.3 problem (*); DESIGN.md §5): min sum w_e |x_e - c_e|
+// subject to equal sums on facing sides of every patch and integer x_e >= 1.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "layout/layout.hpp"
+
+namespace isoquad {
+
+// Side (0..3) of every cycle item of every patch, corner 0 being the corner whose meta-vertex has
+// the smallest id (so that charts do not depend on where a cycle happens to start).
+std::vector<std::vector<uint8_t>> item_sides(const MetaMesh& meta, const std::vector<std::array<uint32_t, 4>>& corners);
+
+// A x = 0: per patch, side 0 minus side 2 and side 1 minus side 3, as (meta-edge, +-1) terms.
+using SideRow = std::vector<std::pair<uint32_t, int>>;
+std::vector<SideRow> side_equations(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>& sides);
+
+// Exact feasibility (DESIGN.md §5.2): the homogeneous system has a solution with all x >= 1 iff
+// its LP has one with all x > 0. `forced_zero` lists the meta-edges that are 0 in every
+// nonnegative solution (the paper's "boundary inevitably of length 0", Figure 4).
+struct Feasibility {
+  bool feasible = false;
+  std::vector<uint32_t> forced_zero;
+  double seconds = 0;
+};
+Feasibility check_feasibility(uint32_t num_edges, const std::vector<SideRow>& rows);
+
+struct Lengths {
+  std::vector<int64_t> x;
+  double objective = 0;  // sum w_e |x_e - c_e|
+  bool optimal = false;
+  double seconds = 0;
+  std::string solver;
+};
+// \pre the system is feasible. w_e = 1 / max(c_e, 1) (relative deviation).
+// \throw Error(solver, E502) if CBC finds no solution in time.
+Lengths solve_lengths(const std::vector<double>& target, const std::vector<SideRow>& rows, double time_limit);
+
+}  // namespace isoquad

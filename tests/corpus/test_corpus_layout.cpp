@@ -1,0 +1,65 @@
+// Layout on every corpus mesh at K = auto, 8 and 30 and at 500, 1,500 and 5,000 quads: a layout
+// is always found (repairs included), every constraint holds exactly, every check passes, and
+// the quad count is close to the request where the patches allow it.
+#include <gtest/gtest.h>
+
+#include "corpus.hpp"
+#include "io/read_mesh.hpp"
+#include "layout_checks.hpp"
+#include "pipeline/sizing.hpp"
+#include "prep/prepare.hpp"
+#include "seg/segment.hpp"
+
+using namespace isoquad;
+
+namespace {
+
+const char* kMeshes[] = {"sphere.off",           "cactus.off",       "hand.off",          "cow.off",
+                         "fandisk.off",          "bunny00.off",      "armadillo.off",     "double-torus-example.off",
+                         "eight.off",            "knot1.off",        "rotor.off",         "elephant.off",
+                         "anchor.off",           "mesh_with_border.off", "nefertiti.off", "mushroom.off",
+                         "mech-holes-shark.off", "three_peaks.off",  "cylinder.off"};
+
+using Param = std::tuple<const char*, uint32_t>;
+class CorpusLayout : public testing::TestWithParam<Param> {};
+
+}  // namespace
+
+TEST_P(CorpusLayout, FeasibleExactAndSized) {
+  const auto [file, k] = GetParam();
+  ISOQUAD_CORPUS_MESH(path, file);
+  const PreparedMesh p = prepare(read_mesh(path).mesh);
+  const PreparedComponent& c = p.components.at(0);
+  for (const double quads : {500.0, 1500.0, 5000.0}) {
+    SCOPED_TRACE(testing::Message() << quads << " quads");
+    SegmentOptions so;
+    so.vsa.patches = k;
+    so.vsa.target_edge_length = edge_length_for_quads(c.mesh, quads);
+    so.meta.corner_window = so.vsa.target_edge_length;
+    SegmentResult seg = segment(c.mesh, c.feature, so);
+    LayoutOptions lo;
+    lo.quads = quads;
+    LayoutReport report;
+    const Layout l = solve_layout(seg.refined.mesh, seg.labels, seg.feature, seg.meta, lo, report);
+    test::expect_valid_layout(seg.meta, l);
+    EXPECT_TRUE(report.length_optimal);
+    for (uint32_t v = 0; v < l.quarter_turns.size(); ++v)
+      EXPECT_GE(l.quarter_turns[v], seg.meta.vertices[v].on_boundary ? 1 : 3) << "degenerate valence";
+    // Never far too few quads; at 5,000 (where every patch holds many) within 10%. Smaller
+    // requests can be below what the patches' integer constraints allow.
+    EXPECT_GE(double(l.quads()), 0.9 * quads);
+    if (quads >= 5000) {
+      EXPECT_LE(double(l.quads()), 1.1 * quads);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusLayout, testing::Combine(testing::ValuesIn(kMeshes), testing::Values(0u, 8u, 30u)),
+                         [](const testing::TestParamInfo<Param>& info) {
+                           std::string n = std::get<0>(info.param);
+                           n = n.substr(0, n.find('.'));
+                           for (char& ch : n)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           const uint32_t k = std::get<1>(info.param);
+                           return n + (k ? "_K" + std::to_string(k) : std::string("_Kauto"));
+                         });

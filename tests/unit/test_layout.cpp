@@ -1,0 +1,146 @@
+#include <gtest/gtest.h>
+#include <map>
+
+#include "core/transition.hpp"
+#include "layout/charts.hpp"
+#include "layout/corners.hpp"
+#include "layout/quantize.hpp"
+#include "layout_checks.hpp"
+#include "prep/prepare.hpp"
+#include "seg/segment.hpp"
+#include "shapes.hpp"
+
+using namespace isoquad;
+
+namespace {
+
+struct Built {
+  PreparedComponent component;
+  SegmentResult seg;
+};
+
+Built segmented(const PolyMesh& m, uint32_t k) {
+  PreparedMesh p = prepare(m);
+  Built b{std::move(p.components.at(0)), {}};
+  SegmentOptions o;
+  o.vsa.patches = k;
+  b.seg = segment(b.component.mesh, b.component.feature, o);
+  return b;
+}
+
+}  // namespace
+
+TEST(Transition, AlgebraIsExact) {
+  const Transition a{1, {3, -2}}, b{3, {-5, 7}};
+  const Lattice p{11, -4};
+  EXPECT_EQ((a * b).apply(p), a.apply(b.apply(p)));
+  EXPECT_EQ(a.inverse().apply(a.apply(p)), p);
+  EXPECT_EQ(a * a.inverse(), Transition{});
+  Transition quarter{1, {0, 0}}, full;
+  for (int i = 0; i < 4; ++i) full = quarter * full;
+  EXPECT_EQ(full, Transition{});
+}
+
+TEST(Feasibility, PaperFigure4ForcedZero) {
+  // Patch 1 makes a and b facing; patch 2 makes b face a plus d: then d = 0 in every solution.
+  const uint32_t a = 0, b = 1, d = 2, e = 3;
+  const std::vector<SideRow> rows = {{{a, 1}, {b, -1}}, {{b, 1}, {a, -1}, {d, -1}}, {{e, 1}, {e, -1}}};
+  const Feasibility f = check_feasibility(4, rows);
+  EXPECT_FALSE(f.feasible);
+  EXPECT_EQ(f.forced_zero, std::vector<uint32_t>{d});
+  // With d on the other side of patch 2 as well, it is feasible, and the ILP finds the optimum.
+  const std::vector<SideRow> fixed = {{{a, 1}, {b, -1}}, {{b, 1}, {d, 1}, {a, -1}, {e, -1}}};
+  EXPECT_TRUE(check_feasibility(4, fixed).feasible);
+  const Lengths l = solve_lengths({3.2, 2.9, 1.4, 1.6}, fixed, 10);
+  EXPECT_TRUE(l.optimal);
+  EXPECT_EQ(l.x[a], l.x[b]);
+  EXPECT_EQ(l.x[d], l.x[e]);
+  EXPECT_EQ(l.x, (std::vector<int64_t>{3, 3, 1, 1}));  // |3-3.2|+|3-2.9|/... : the L1 optimum
+}
+
+TEST(Layout, CubeIsSixSquareGrids) {
+  const int n = 6;
+  Built b = segmented(test::subdivided_cube(n), 6);
+  ASSERT_EQ(b.seg.num_patches, 6u);
+  LayoutOptions o;
+  o.edge_length = b.component.mesh.bounding_box().diagonal() / std::sqrt(3.0) / 5;  // 5 quads per cube edge
+  LayoutReport report;
+  const Layout l = solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, b.seg.meta, o, report);
+  test::expect_valid_layout(b.seg.meta, l);
+  EXPECT_TRUE(report.repairs.empty());
+  EXPECT_EQ(l.quads(), 6 * 25);
+  for (const Chart& c : l.charts) {
+    EXPECT_EQ(c.width, 5);
+    EXPECT_EQ(c.height, 5);
+  }
+  for (int a : l.quarter_turns) EXPECT_EQ(a, 3);  // every cube corner: three 90-degree corners
+  EXPECT_NEAR(l.objective, 0.0, 1e-9);
+}
+
+TEST(Layout, PlateGetsItsSize) {
+  Built b = segmented(test::grid_plate(30, 20), 1);
+  ASSERT_EQ(b.seg.num_patches, 1u);
+  const Box3 box = b.component.mesh.bounding_box();
+  LayoutOptions o;
+  o.edge_length = (box.hi.x - box.lo.x) / 12;  // the plate is a unit square: 12 x 12 quads
+  LayoutReport report;
+  const Layout l = solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, b.seg.meta, o, report);
+  test::expect_valid_layout(b.seg.meta, l);
+  const Chart& c = l.charts[0];
+  EXPECT_EQ(c.width, 12);
+  EXPECT_EQ(c.height, 12);
+  EXPECT_NEAR(l.objective, 0.0, 1e-9);
+  for (int a : l.quarter_turns) EXPECT_EQ(a, 1);  // the plate's corners
+}
+
+TEST(Layout, TorusQuadrantsAreRegular) {
+  const int nu = 48, nv = 24;
+  PreparedMesh p = prepare(test::torus(nu, nv));
+  const PreparedComponent& c = p.components[0];
+  FaceData<uint32_t> labels(c.mesh.num_faces());
+  for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {
+    const int i = int(c.input_face[f] / 2) / nv, j = int(c.input_face[f] / 2) % nv;
+    labels[f] = (i < nu / 2 ? 0 : 1) + (j < nv / 2 ? 0 : 2);
+  }
+  MetaMesh mm = build_meta_mesh(c.mesh, labels, 4, c.feature);
+  measure_geodesic_lengths(c.mesh, labels, mm);
+  LayoutOptions o;
+  o.quads = 400;
+  LayoutReport report;
+  const Layout l = solve_layout(c.mesh, labels, c.feature, mm, o, report);
+  test::expect_valid_layout(mm, l);
+  for (int a : l.quarter_turns) EXPECT_EQ(a, 4);  // no singularity on a torus
+  // Two meta-edges join each pair of neighbouring patches, with different jumps.
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<Transition>> between;
+  for (uint32_t e = 0; e < mm.edges.size(); ++e) {
+    const auto key = mm.edges[e].left < mm.edges[e].right ? std::pair(mm.edges[e].left, mm.edges[e].right)
+                                                          : std::pair(mm.edges[e].right, mm.edges[e].left);
+    between[key].push_back(mm.edges[e].left < mm.edges[e].right ? l.transition[e] : l.transition[e].inverse());
+  }
+  for (const auto& [pair, ts] : between) {
+    ASSERT_EQ(ts.size(), 2u);
+    EXPECT_EQ(ts[0].k, ts[1].k);
+    EXPECT_NE(ts[0].t, ts[1].t);
+  }
+  EXPECT_NEAR(double(l.quads()), 400, 40);
+}
+
+TEST(Corners, LocalModeIsThePapersChoice) {
+  Built b = segmented(test::icosphere(3), 12);
+  const auto cands = corner_candidates(b.seg.refined.mesh, b.seg.labels, b.seg.meta, 0.5, 8);
+  LayoutOptions o;
+  o.corners = CornerMode::local;
+  const CornerChoice local = choose_corners(b.seg.refined.mesh, b.seg.meta, cands, o);
+  for (uint32_t p = 0; p < cands.size(); ++p) EXPECT_EQ(local.chosen[p], 0u);  // each patch's best candidate
+  o.corners = CornerMode::global;
+  const CornerChoice global = choose_corners(b.seg.refined.mesh, b.seg.meta, cands, o);
+  // The global choice pays at most the candidates' cost for fewer singular quarter turns.
+  auto singular = [&](const CornerChoice& c) {
+    int s = 0;
+    for (uint32_t v = 0; v < c.quarter_turns.size(); ++v) s += std::abs(c.quarter_turns[v] - 4);
+    return s;
+  };
+  EXPECT_LE(singular(global), singular(local));
+  EXPECT_GE(global.cost, local.cost - 1e-12);
+  for (int a : global.quarter_turns) EXPECT_GE(a, 3);
+}
