@@ -16,7 +16,7 @@ namespace isoquad::cli {
 
 namespace {
 struct LayoutArgs {
-  std::string mesh, corners = "global";
+  std::string mesh, corners = "global", ilp = "cbc";
   uint32_t patches = 0;
   double edge_length = 0, quads = 0;
   uint64_t seed = 1;
@@ -34,6 +34,10 @@ Runner add_layout(CLI::App& app) {
   sub->add_option("--quads", a->quads, "Target number of quads (the size is tuned to land within 10%)")->excludes(el);
   sub->add_option("--corners", a->corners, "global: one ILP over all patches; local: the paper's per-patch choice")
       ->check(CLI::IsMember({"global", "local"}))
+      ->capture_default_str();
+  sub->add_option("--ilp", a->ilp, "Integer lengths: cbc, or flow (LEMON network simplex when the system is a "
+                                   "network matrix, CBC otherwise)")
+      ->check(CLI::IsMember({"cbc", "flow"}))
       ->capture_default_str();
   sub->add_option("--seed", a->seed, "Random seed")->capture_default_str();
   sub->add_flag("--json", a->json, "Print the full layout as JSON");
@@ -55,6 +59,7 @@ Runner add_layout(CLI::App& app) {
       SegmentResult seg = segment(c.mesh, c.feature, so);
       LayoutOptions lo;
       lo.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;
+      lo.length_solver = a->ilp == "flow" ? LengthSolver::flow : LengthSolver::cbc;
       if (a->edge_length > 0) lo.edge_length = h;
       else lo.quads = a->quads > 0 ? a->quads * surface_area(c.mesh) / total_area : 0;
       LayoutReport report;

@@ -9,6 +9,7 @@
 #include "isoquad/error.hpp"
 #include "layout/charts.hpp"
 #include "layout/corners.hpp"
+#include "layout/flow.hpp"
 #include "layout/quantize.hpp"
 #include "pipeline/sizing.hpp"
 #include "seg/segment.hpp"
@@ -114,7 +115,9 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const
                   fmt::format("target edge length too large: {} of {} meta-edges are shorter than half of it; use a "
                               "smaller --edge-length, more --quads or fewer --patches",
                               tiny, c.size()));
-    Lengths l = solve_lengths(c, f->rows, o.time_limit);
+    std::optional<Lengths> flow;
+    if (o.length_solver == LengthSolver::flow) flow = solve_lengths_flow(c, f->rows);
+    Lengths l = flow ? *flow : solve_lengths(c, f->rows, o.time_limit);
     ++report.size_rounds;
     report.length_seconds += l.seconds;
     layout.length = l.x;

@@ -32,11 +32,13 @@ struct Layout {
 };
 
 enum class CornerMode { global, local };
+enum class LengthSolver { cbc, flow };  // flow: LEMON when the system is a network, else CBC
 
 struct LayoutOptions {
   double edge_length = 0;          // target h (mesh units); 0: from `quads`
   double quads = 0;                // target quad count; the size is tuned to land within 10%
   CornerMode corners = CornerMode::global;
+  LengthSolver length_solver = LengthSolver::cbc;
   double angle_weight = 0.5;       // beta in the corner cost (0: paper's length-only cost)
   double valence_weight = 0.5;     // mu: penalty per quarter turn of singularity
   uint32_t candidates_per_patch = 8;

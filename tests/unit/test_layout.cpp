@@ -4,6 +4,7 @@
 #include "core/transition.hpp"
 #include "layout/charts.hpp"
 #include "layout/corners.hpp"
+#include "layout/flow.hpp"
 #include "layout/quantize.hpp"
 #include "layout_checks.hpp"
 #include "prep/prepare.hpp"
@@ -143,4 +144,42 @@ TEST(Corners, LocalModeIsThePapersChoice) {
   EXPECT_LE(singular(global), singular(local));
   EXPECT_GE(global.cost, local.cost - 1e-12);
   for (int a : global.quarter_turns) EXPECT_GE(a, 3);
+}
+
+namespace {
+// Facing-side equations of a real segmentation with its chosen corners.
+std::vector<SideRow> rows_of(const SegmentResult& seg, const TriMesh& mesh) {
+  const auto cands = corner_candidates(mesh, seg.labels, seg.meta, 0.5, 8);
+  const CornerChoice ch = choose_corners(mesh, seg.meta, cands, LayoutOptions{});
+  return side_equations(seg.meta, item_sides(seg.meta, ch.corners));
+}
+}  // namespace
+
+TEST(Flow, ReachesCbcOptimumOnNetworkLayouts) {
+  // The cube (8 valence-3 corners) is balanced; so is a plate; the 2x2 torus too.
+  for (const PolyMesh& m : {test::subdivided_cube(6), test::grid_plate(20, 12)}) {
+    Built b = segmented(m, m.num_faces() > 300 ? 6 : 1);
+    const auto rows = rows_of(b.seg, b.seg.refined.mesh);
+    ASSERT_TRUE(network_signs(uint32_t(b.seg.meta.edges.size()), rows).has_value());
+    for (double scale : {2.5, 7.3, 19.9}) {  // several sizes, fractional targets
+      std::vector<double> c;
+      for (const MetaEdge& e : b.seg.meta.edges) c.push_back(e.geodesic * scale / b.seg.meta.edges[0].geodesic);
+      const Lengths cbc = solve_lengths(c, rows, 10);
+      const auto flow = solve_lengths_flow(c, rows);
+      ASSERT_TRUE(flow.has_value());
+      EXPECT_NEAR(flow->objective, cbc.objective, 1e-6) << "scale " << scale;
+      for (const SideRow& r : rows) {
+        int64_t sum = 0;
+        for (const auto& [e, s] : r) sum += s * flow->x[e];
+        EXPECT_EQ(sum, 0);
+      }
+    }
+  }
+}
+
+TEST(Flow, RejectsRotationalLayouts) {
+  // An odd cycle of sign constraints: rows {a - b}, {b - c}, {c + a}... a + c = 0 with a = b = c.
+  const std::vector<SideRow> rows = {{{0, 1}, {1, -1}}, {{1, 1}, {2, -1}}, {{2, 1}, {0, 1}}};
+  EXPECT_FALSE(network_signs(3, rows).has_value());
+  EXPECT_FALSE(solve_lengths_flow({1, 1, 1}, rows).has_value());
 }
