@@ -117,3 +117,32 @@ TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_FALSE(std::filesystem::exists(dir / "x.stl"));
 }
+
+TEST(Cli, LayoutReportsChartsAndLengths) {
+  const CliRun r = run("layout " + (isoquad::test::data_dir() / "rotor.off").string() + " --quads 800 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc.size(), 1u);
+  const auto& j = doc[0];
+  int64_t quads = 0;
+  for (const auto& c : j["charts"]) {
+    EXPECT_GE(c["width"].get<int>(), 1);
+    EXPECT_GE(c["height"].get<int>(), 1);
+    EXPECT_EQ(c["corner_meta_vertices"].size(), 4u);
+    quads += c["width"].get<int64_t>() * c["height"].get<int64_t>();
+  }
+  EXPECT_EQ(quads, j["quads"].get<int64_t>());
+  EXPECT_NEAR(double(quads), 800, 80);
+  EXPECT_EQ(j["meta_edges_detail"].size(), j["meta_edges"].get<size_t>());
+  for (const auto& e : j["meta_edges_detail"]) {
+    EXPECT_GE(e["length"].get<int>(), 1);
+    EXPECT_GE(e["rotation"].get<int>(), 0);
+    EXPECT_LE(e["rotation"].get<int>(), 3);
+  }
+  // A genus-1 surface has no net singularity: valence-3 and valence-5 vertices balance.
+  const auto& v = j["interior_valence"];
+  const int v3 = v.contains("3") ? v["3"].get<int>() : 0, v5 = v.contains("5") ? v["5"].get<int>() : 0,
+            v6 = v.contains("6") ? v["6"].get<int>() : 0;
+  EXPECT_EQ(v3, v5 + 2 * v6);
+  EXPECT_EQ(run("layout " + (isoquad::test::data_dir() / "rotor.off").string() + " --corners sideways").status, 105);
+}
