@@ -1,8 +1,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <numeric>
 
 #include "core/edge_groups.hpp"
+#include "core/union_find.hpp"
 #include "isoquad/error.hpp"
 #include "prep/steps.hpp"
 
@@ -11,19 +11,6 @@ namespace isoquad::prep {
 namespace {
 
 uint32_t corner_of(const Tri& t, uint32_t v) { return t[0] == v ? 0 : (t[1] == v ? 1 : 2); }
-
-struct Corners {  // union-find over triangle corners 3t+i
-  std::vector<uint32_t> parent;
-  explicit Corners(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // Of the faces on a non-manifold edge, keeps glued the first pair that runs in opposite
 // directions (or the first two): the other faces are detached from this edge.
@@ -63,7 +50,7 @@ void report_non_manifold(const Soup& s, const std::vector<std::span<const EdgeHa
 
 // Gives every fan of every vertex its own vertex: corners are merged across glued edges only.
 void split_fans(Soup& s, const std::vector<std::pair<uint32_t, uint32_t>>& glued, InputReport& report) {
-  Corners corners(3 * s.tris.size());
+  UnionFind corners(3 * s.tris.size());  // over triangle corners 3t + i
   for (const auto& [h0, h1] : glued) {
     const Tri &t0 = s.tris[h0 / 3], &t1 = s.tris[h1 / 3];
     for (uint32_t v : {t0[h0 % 3], t0[(h0 % 3 + 1) % 3]})

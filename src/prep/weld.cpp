@@ -1,27 +1,13 @@
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <unordered_map>
 
+#include "core/union_find.hpp"
 #include "prep/steps.hpp"
 
 namespace isoquad::prep {
 
 namespace {
-
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  // The smaller id stays the representative, so results do not depend on visiting order.
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // Vertices on an edge that only one face uses: where split seams and STL soups have cracks.
 std::vector<char> boundary_vertices(const PolyMesh& soup) {

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <map>
 
+#include "core/face_regions.hpp"
 #include "isoquad/error.hpp"
 #include "seg/geodesic.hpp"
 #include "seg/patch_topology.hpp"
@@ -27,31 +28,11 @@ bool same_patch(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t h) 
 
 // Every connected piece of a label becomes its own label.
 uint32_t split_disconnected(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n, DiskRepairLog& log) {
-  FaceData<uint32_t> out(m.num_faces(), kInvalid);
-  std::vector<uint32_t> pieces(n, 0), stack;
-  uint32_t next = 0;
-  for (uint32_t f0 = 0; f0 < m.num_faces(); ++f0) {
-    if (out[f0] != kInvalid) continue;
-    if (pieces[labels[f0]]++ > 0) ++log.disconnected_split;
-    out[f0] = next;
-    stack.assign(1, f0);
-    while (!stack.empty()) {
-      const uint32_t f = stack.back();
-      stack.pop_back();
-      for (uint32_t i = 0; i < 3; ++i) {
-        const uint32_t h = 3 * f + i;
-        if (!same_patch(m, labels, h)) continue;
-        const uint32_t g = TriMesh::face_of(m.twin(h));
-        if (out[g] == kInvalid) {
-          out[g] = next;
-          stack.push_back(g);
-        }
-      }
-    }
-    ++next;
-  }
-  labels = std::move(out);
-  return next;
+  std::vector<uint32_t> region;
+  const uint32_t count = face_regions(m, [&](uint32_t h) { return same_patch(m, labels, h); }, region);
+  log.disconnected_split += count - std::min(count, n);
+  labels = FaceData<uint32_t>(std::move(region));
+  return count;
 }
 
 // A patch seen in two wedges at one vertex touches itself there. The smaller such wedge joins
@@ -199,37 +180,14 @@ bool two_path_cut(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint
   // Flood the patch without crossing the two paths.
   std::vector<char> cut(m.num_edges(), 0);
   for (const auto* g : {&g1, &g2})
-    for (std::size_t i = 0; i + 1 < g->size(); ++i) {
-      const uint32_t a = (*g)[i], b = (*g)[i + 1];
-      m.for_each_outgoing(a, [&](uint32_t h) {
-        if (m.to(h) == b) cut[m.edge(h)] = 1;
+    for (std::size_t i = 0; i + 1 < g->size(); ++i)
+      m.for_each_outgoing((*g)[i], [&](uint32_t h) {
+        if (m.to(h) == (*g)[i + 1]) cut[m.edge(h)] = 1;
       });
-      m.for_each_outgoing(b, [&](uint32_t h) {
-        if (m.to(h) == a) cut[m.edge(h)] = 1;
-      });
-    }
-  FaceData<uint32_t> piece(m.num_faces(), kInvalid);
-  uint32_t pieces = 0;
-  std::vector<uint32_t> stack;
-  for (uint32_t f0 = 0; f0 < m.num_faces(); ++f0) {
-    if (labels[f0] != p || piece[f0] != kInvalid) continue;
-    piece[f0] = pieces;
-    stack.assign(1, f0);
-    while (!stack.empty()) {
-      const uint32_t f = stack.back();
-      stack.pop_back();
-      for (uint32_t k = 0; k < 3; ++k) {
-        const uint32_t h = 3 * f + k;
-        if (!same_patch(m, labels, h) || cut[m.edge(h)]) continue;
-        const uint32_t g = TriMesh::face_of(m.twin(h));
-        if (piece[g] == kInvalid) {
-          piece[g] = pieces;
-          stack.push_back(g);
-        }
-      }
-    }
-    ++pieces;
-  }
+  std::vector<uint32_t> piece;
+  const uint32_t pieces = face_regions(
+      m, [&](uint32_t h) { return same_patch(m, labels, h) && !cut[m.edge(h)]; },
+      [&](uint32_t f) { return labels[f] == p; }, piece);
   if (pieces < 2) return false;
   for (uint32_t f = 0; f < m.num_faces(); ++f)
     if (labels[f] == p && piece[f] > 0) labels[f] = n + piece[f] - 1;

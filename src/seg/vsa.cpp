@@ -1,5 +1,7 @@
 #include "seg/vsa.hpp"
 
+#include "core/face_regions.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <queue>
@@ -108,30 +110,14 @@ class Vsa {
 // Feature edges that enclose fewer than 10 faces are noise (common on scans at 60 degrees), not
 // features: they stop being barriers, so that they neither count as patches nor block flooding.
 void Vsa::drop_noise_barriers() {
-  std::vector<uint32_t> region(m_.num_faces(), kInvalid), stack, members;
-  for (uint32_t f0 = 0; f0 < m_.num_faces(); ++f0) {
-    if (region[f0] != kInvalid) continue;
-    members.assign(1, f0);
-    region[f0] = f0;
-    stack.assign(1, f0);
-    while (!stack.empty()) {
-      const uint32_t f = stack.back();
-      stack.pop_back();
-      for (uint32_t i = 0; i < 3; ++i) {
-        const uint32_t h = 3 * f + i;
-        if (!crossable(h)) continue;
-        const uint32_t g = TriMesh::face_of(m_.twin(h));
-        if (region[g] == kInvalid) {
-          region[g] = f0;
-          members.push_back(g);
-          stack.push_back(g);
-        }
-      }
-    }
-    if (members.size() >= 10 || members.size() == m_.num_faces()) continue;
-    for (uint32_t f : members)
+  std::vector<uint32_t> region;
+  const uint32_t count = face_regions(m_, [&](uint32_t h) { return crossable(h); }, region);
+  if (count < 2) return;
+  std::vector<uint32_t> size(count, 0);
+  for (uint32_t r : region) ++size[r];
+  for (uint32_t f = 0; f < m_.num_faces(); ++f)
+    if (size[region[f]] < 10)
       for (uint32_t i = 0; i < 3; ++i) barrier_[m_.edge(3 * f + i)] = 0;
-  }
 }
 
 // Scan noise makes face normals jitter; the metric uses normals averaged twice with those
@@ -189,37 +175,21 @@ void Vsa::flood() {
   }
 }
 
-// Floods; regions that no seed can reach (enclosed by barriers) get a proxy of their own.
+// Floods; regions that no seed can reach (enclosed by barriers) get a proxy of their own, seeded
+// at their largest face.
 void Vsa::partition() {
-  while (true) {
-    flood();
-    bool added = false;
-    std::vector<uint32_t> stack;
-    for (uint32_t f0 = 0; f0 < m_.num_faces(); ++f0) {
-      if (label_[f0] != kInvalid) continue;
-      const uint32_t p = uint32_t(proxies_.size());
-      uint32_t best = f0;
-      label_[f0] = p;
-      stack.assign(1, f0);
-      while (!stack.empty()) {
-        const uint32_t f = stack.back();
-        stack.pop_back();
-        if (a_[f] > a_[best] || (a_[f] == a_[best] && f < best)) best = f;
-        for (uint32_t i = 0; i < 3; ++i) {
-          const uint32_t h = 3 * f + i;
-          if (!crossable(h)) continue;
-          const uint32_t g = TriMesh::face_of(m_.twin(h));
-          if (label_[g] == kInvalid) {
-            label_[g] = p;
-            stack.push_back(g);
-          }
-        }
-      }
-      proxies_.push_back(proxy_at(best));
-      added = true;
-    }
-    if (!added) return;
+  flood();
+  std::vector<uint32_t> region;
+  const uint32_t unreached = face_regions(
+      m_, [&](uint32_t h) { return crossable(h); }, [&](uint32_t f) { return label_[f] == kInvalid; }, region);
+  if (unreached == 0) return;
+  std::vector<uint32_t> best(unreached, kInvalid);
+  for (uint32_t f = 0; f < m_.num_faces(); ++f) {
+    const uint32_t r = region[f];
+    if (r != kInvalid && (best[r] == kInvalid || a_[f] > a_[best[r]])) best[r] = f;
   }
+  for (uint32_t f : best) proxies_.push_back(proxy_at(f));
+  flood();
 }
 
 std::vector<RegionSums> Vsa::sums() const {

@@ -1,6 +1,7 @@
 // Every corpus mesh is read and prepared, and its topology matches what is known of it. The
 // expected numbers were established independently of isoquad (a separate script counting
 // V - E + F and boundary loops on the raw files) and agree with the models' known shapes.
+#include <fstream>
 #include <gtest/gtest.h>
 
 #include "corpus.hpp"
@@ -78,3 +79,17 @@ INSTANTIATE_TEST_SUITE_P(Corpus, Corpus, testing::ValuesIn(kCorpus), [](const au
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   return n;
 });
+
+TEST(Corpus, TestListMatchesCorpusFile) {
+  // The parameterized tests and scripts/get-corpus must cover the same meshes.
+  std::ifstream in(std::filesystem::path(ISOQUAD_SOURCE_DIR) / "bench" / "corpus.txt");
+  std::vector<std::string> listed;
+  for (std::string line; std::getline(in, line);) {
+    line = line.substr(0, line.find('#'));
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+    if (!line.empty()) listed.push_back(line);
+  }
+  const std::vector<std::string> tested(std::begin(test::kCorpusMeshes), std::end(test::kCorpusMeshes));
+  EXPECT_EQ(listed, tested);
+  EXPECT_EQ(listed.size(), std::size(kCorpus));
+}

@@ -14,12 +14,6 @@ using namespace isoquad;
 
 namespace {
 
-const char* kMeshes[] = {"sphere.off",           "cactus.off",       "hand.off",          "cow.off",
-                         "fandisk.off",          "bunny00.off",      "armadillo.off",     "double-torus-example.off",
-                         "eight.off",            "knot1.off",        "rotor.off",         "elephant.off",
-                         "anchor.off",           "mesh_with_border.off", "nefertiti.off", "mushroom.off",
-                         "mech-holes-shark.off", "three_peaks.off",  "cylinder.off"};
-
 using Param = std::tuple<const char*, uint32_t>;
 class CorpusLayout : public testing::TestWithParam<Param> {};
 
@@ -54,12 +48,7 @@ TEST_P(CorpusLayout, FeasibleExactAndSized) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Corpus, CorpusLayout, testing::Combine(testing::ValuesIn(kMeshes), testing::Values(0u, 8u, 30u)),
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusLayout, testing::Combine(testing::ValuesIn(test::kCorpusMeshes), testing::Values(0u, 8u, 30u)),
                          [](const testing::TestParamInfo<Param>& info) {
-                           std::string n = std::get<0>(info.param);
-                           n = n.substr(0, n.find('.'));
-                           for (char& ch : n)
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           const uint32_t k = std::get<1>(info.param);
-                           return n + (k ? "_K" + std::to_string(k) : std::string("_Kauto"));
+                           return test::corpus_case_name(std::get<0>(info.param), std::get<1>(info.param));
                          });

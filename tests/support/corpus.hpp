@@ -7,12 +7,29 @@
 #include <filesystem>
 #include <gtest/gtest.h>
 #include <string>
+#include <cctype>
+#include <cstdint>
 
 namespace isoquad::test {
 
 inline std::filesystem::path corpus_dir() {
   if (const char* d = std::getenv("ISOQUAD_CORPUS_DIR")) return d;
   return std::filesystem::path(ISOQUAD_SOURCE_DIR) / "corpus";
+}
+
+// The corpus (bench/corpus.txt), for tests parameterized over every mesh.
+inline constexpr const char* kCorpusMeshes[] = {
+    "sphere.off",  "cactus.off", "hand.off",          "cow.off",       "fandisk.off",         "bunny00.off",
+    "armadillo.off", "double-torus-example.off", "eight.off", "knot1.off", "rotor.off",  "elephant.off",
+    "anchor.off",  "mesh_with_border.off", "nefertiti.off", "mushroom.off", "mech-holes-shark.off",
+    "three_peaks.off", "cylinder.off"};
+
+// A test name from a corpus file name and a patch count (0: automatic).
+inline std::string corpus_case_name(const std::string& file, uint32_t patches) {
+  std::string n = file.substr(0, file.find('.'));
+  for (char& ch : n)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return n + (patches ? "_K" + std::to_string(patches) : std::string("_Kauto"));
 }
 
 inline std::filesystem::path data_dir() { return std::filesystem::path(ISOQUAD_SOURCE_DIR) / "data"; }
