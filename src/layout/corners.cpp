@@ -173,9 +173,11 @@ MilpResult corner_ilp(const TriMesh& mesh, const MetaMesh& meta, const std::vect
     std::fill(lp.objective.begin(), lp.objective.end(), 0.0);
     return solve_milp(lp, o.time_limit);
   }
-  // The feasibility-aware program is a repair: a choice within 5% of the best, found within a
-  // short time, is good enough (the feasibility-only choice is the fallback).
-  return solve_milp(lp, feasible ? std::min(o.time_limit, 2.0) : o.time_limit, feasible ? 0.05 : 0.0);
+  // The feasibility-aware program is a repair: a choice within 5% of the best, found within 200
+  // branch-and-bound nodes (a bound on effort that does not depend on the machine's speed), is
+  // good enough; the feasibility-only choice is the fallback.
+  if (feasible) return solve_milp(lp, 10 * o.time_limit, 0.05, 200);
+  return solve_milp(lp, o.time_limit);
 }
 
 }  // namespace

@@ -34,8 +34,16 @@ TEST_P(CorpusLayout, FeasibleExactAndSized) {
     LayoutOptions lo;
     lo.quads = quads;
     LayoutReport report;
+    const MetaMesh meta_before = seg.meta;
     const Layout l = solve_layout(seg.refined.mesh, seg.labels, seg.feature, seg.meta, lo, report);
     test::expect_valid_layout(seg.meta, l);
+    if (quads == 1500) {  // same input, same layout (no dependence on solver timing)
+      MetaMesh again_meta = meta_before;
+      LayoutReport again_report;
+      const Layout again = solve_layout(seg.refined.mesh, seg.labels, seg.feature, again_meta, lo, again_report);
+      EXPECT_EQ(again.length, l.length);
+      EXPECT_EQ(again.quarter_turns, l.quarter_turns);
+    }
     EXPECT_TRUE(report.length_optimal);
     for (uint32_t v = 0; v < l.quarter_turns.size(); ++v)
       EXPECT_GE(l.quarter_turns[v], seg.meta.vertices[v].on_boundary ? 1 : 3) << "degenerate valence";
