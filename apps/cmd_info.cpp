@@ -25,8 +25,9 @@ void print_text(const std::string& file, const ReadResult& read, const InputRepo
              to_string(read.format), read.binary ? "binary" : "ascii", r.input_vertices,
              r.input_faces, r.input_polygons);
   const Box3& b = r.bounding_box;
-  fmt::print("bounding box: ({:.6g}, {:.6g}, {:.6g}) to ({:.6g}, {:.6g}, {:.6g}), diagonal {:.6g}\n",
-             b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z, b.diagonal());
+  fmt::print(
+      "bounding box: ({:.6g}, {:.6g}, {:.6g}) to ({:.6g}, {:.6g}, {:.6g}), diagonal {:.6g}\n",
+      b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z, b.diagonal());
   fmt::print("manifold: {}; orientable: {}; components: {}\n",
              r.non_manifold_edges == 0 && r.split_vertices == 0 ? "yes" : "no",
              r.orientable ? "yes" : "no", r.components.size());
@@ -49,8 +50,8 @@ void print_text(const std::string& file, const ReadResult& read, const InputRepo
                                                                       : "warning";
     fmt::print("{} {}: {}\n", what, i.code, i.message);
   }
-  fmt::print("remesh: {}\n", r.has_errors() ? "would reject this input (see above)"
-                                            : "would accept this input");
+  fmt::print("remesh: {}\n",
+             r.has_errors() ? "would reject this input (see above)" : "would accept this input");
 }
 
 int exit_status_of(const InputReport& r) {
@@ -66,7 +67,8 @@ int exit_status_of(const InputReport& r) {
 Runner add_info(CLI::App& app) {
   auto args = std::make_shared<InfoArgs>();
   CLI::App* sub = app.add_subcommand(
-      "info", "Report counts, topology and problems of a mesh, and what remesh would repair or reject");
+      "info",
+      "Report counts, topology and problems of a mesh, and what remesh would repair or reject");
   sub->add_option("mesh", args->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
   sub->add_flag("--json", args->json, "Print a JSON report instead of text");
   add_prep_options(*sub, args->prep);

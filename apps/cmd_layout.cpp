@@ -27,16 +27,22 @@ struct LayoutArgs {
 
 Runner add_layout(CLI::App& app) {
   auto a = std::make_shared<LayoutArgs>();
-  CLI::App* sub = app.add_subcommand("layout", "Lay every patch out as an integer rectangle and print the layout");
+  CLI::App* sub = app.add_subcommand(
+      "layout", "Lay every patch out as an integer rectangle and print the layout");
   sub->add_option("mesh", a->mesh, "Input mesh")->required();
   sub->add_option("--patches", a->patches, "Number of patches K (default: automatic)");
-  auto* el = sub->add_option("--edge-length", a->edge_length, "Target quad edge length (input units)");
-  sub->add_option("--quads", a->quads, "Target number of quads (the size is tuned to land within 10%)")->excludes(el);
-  sub->add_option("--corners", a->corners, "global: one ILP over all patches; local: the paper's per-patch choice")
+  auto* el =
+      sub->add_option("--edge-length", a->edge_length, "Target quad edge length (input units)");
+  sub->add_option("--quads", a->quads,
+                  "Target number of quads (the size is tuned to land within 10%)")
+      ->excludes(el);
+  sub->add_option("--corners", a->corners,
+                  "global: one ILP over all patches; local: the paper's per-patch choice")
       ->check(CLI::IsMember({"global", "local"}))
       ->capture_default_str();
-  sub->add_option("--ilp", a->ilp, "Integer lengths: cbc, or flow (LEMON network simplex when the system is a "
-                                   "network matrix, CBC otherwise)")
+  sub->add_option("--ilp", a->ilp,
+                  "Integer lengths: cbc, or flow (LEMON network simplex when the system is a "
+                  "network matrix, CBC otherwise)")
       ->check(CLI::IsMember({"cbc", "flow"}))
       ->capture_default_str();
   sub->add_option("--seed", a->seed, "Random seed")->capture_default_str();
@@ -60,10 +66,13 @@ Runner add_layout(CLI::App& app) {
       LayoutOptions lo;
       lo.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;
       lo.length_solver = a->ilp == "flow" ? LengthSolver::flow : LengthSolver::cbc;
-      if (a->edge_length > 0) lo.edge_length = h;
-      else lo.quads = a->quads > 0 ? a->quads * surface_area(c.mesh) / total_area : 0;
+      if (a->edge_length > 0)
+        lo.edge_length = h;
+      else
+        lo.quads = a->quads > 0 ? a->quads * surface_area(c.mesh) / total_area : 0;
       LayoutReport report;
-      const Layout layout = solve_layout(seg.refined.mesh, seg.labels, seg.feature, seg.meta, lo, report);
+      const Layout layout =
+          solve_layout(seg.refined.mesh, seg.labels, seg.feature, seg.meta, lo, report);
       const MetaMesh& mm = seg.meta;
       std::map<int, int> valence;
       for (uint32_t v = 0; v < mm.vertices.size(); ++v)
@@ -86,22 +95,32 @@ Runner add_layout(CLI::App& app) {
       if (a->json) {
         for (uint32_t p = 0; p < layout.charts.size(); ++p) {
           nlohmann::json corners = nlohmann::json::array();
-          for (uint32_t k : layout.charts[p].corners) corners.push_back(mm.faces[p].start_vertex(k, mm.edges));
-          j["charts"].push_back({{"patch", p}, {"width", layout.charts[p].width}, {"height", layout.charts[p].height},
+          for (uint32_t k : layout.charts[p].corners)
+            corners.push_back(mm.faces[p].start_vertex(k, mm.edges));
+          j["charts"].push_back({{"patch", p},
+                                 {"width", layout.charts[p].width},
+                                 {"height", layout.charts[p].height},
                                  {"corner_meta_vertices", corners}});
         }
         for (uint32_t e = 0; e < mm.edges.size(); ++e)
-          j["meta_edges_detail"].push_back({{"id", e}, {"target", layout.target[e]}, {"length", layout.length[e]},
-                                            {"rotation", layout.transition[e].k},
-                                            {"jump", {layout.transition[e].t[0], layout.transition[e].t[1]}}});
+          j["meta_edges_detail"].push_back(
+              {{"id", e},
+               {"target", layout.target[e]},
+               {"length", layout.length[e]},
+               {"rotation", layout.transition[e].k},
+               {"jump", {layout.transition[e].t[0], layout.transition[e].t[1]}}});
       } else {
-        fmt::print("component {}: {} patches, {} meta-vertices, {} meta-edges; {} quads at h = {:.4g}; "
-                   "objective {:.3g}; interior valences {}; {} corner ILP{}, {} length ILP{} ({}{}), {:.0f} + {:.0f} ms\n",
-                   c.report_index, mm.faces.size(), mm.vertices.size(), mm.edges.size(), layout.quads(),
-                   layout.edge_length / prep.normalization.scale, layout.objective, j["interior_valence"].dump(),
-                   report.corner_rounds, report.corner_rounds == 1 ? "" : "s", report.size_rounds,
-                   report.size_rounds == 1 ? "" : "s", report.length_solver, report.length_optimal ? ", optimal" : "",
-                   1e3 * report.corner_seconds, 1e3 * report.length_seconds);
+        fmt::print(
+            "component {}: {} patches, {} meta-vertices, {} meta-edges; {} quads at h = {:.4g}; "
+            "objective {:.3g}; interior valences {}; {} corner ILP{}, {} length ILP{} ({}{}), "
+            "{:.0f} + {:.0f} ms\n",
+            c.report_index, mm.faces.size(), mm.vertices.size(), mm.edges.size(), layout.quads(),
+            layout.edge_length / prep.normalization.scale, layout.objective,
+            j["interior_valence"].dump(), report.corner_rounds,
+            report.corner_rounds == 1 ? "" : "s", report.size_rounds,
+            report.size_rounds == 1 ? "" : "s", report.length_solver,
+            report.length_optimal ? ", optimal" : "", 1e3 * report.corner_seconds,
+            1e3 * report.length_seconds);
         for (const std::string& r : report.repairs) fmt::print("  repair: {}\n", r);
       }
       out.push_back(std::move(j));

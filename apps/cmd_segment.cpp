@@ -6,8 +6,8 @@
 #include "commands.hpp"
 #include "io/read_mesh.hpp"
 #include "io/write_mesh.hpp"
-#include "prep/prepare.hpp"
 #include "pipeline/sizing.hpp"
+#include "prep/prepare.hpp"
 #include "prep_options.hpp"
 #include "seg/segment.hpp"
 #include "viz/render.hpp"
@@ -28,12 +28,14 @@ struct SegmentArgs {
 
 Runner add_segment(CLI::App& app) {
   auto a = std::make_shared<SegmentArgs>();
-  CLI::App* sub = app.add_subcommand("segment", "Split the surface into disk patches (VSA) and build the meta-mesh");
+  CLI::App* sub = app.add_subcommand(
+      "segment", "Split the surface into disk patches (VSA) and build the meta-mesh");
   sub->add_option("mesh", a->mesh, "Input mesh")->required();
   sub->add_option("-o,--output", a->output, "Output PLY with per-face patch ids and colours");
   sub->add_option("--png", a->png, "Picture of the patches");
   sub->add_option("--patches", a->patches, "Number of patches K (default: automatic)");
-  auto* el = sub->add_option("--edge-length", a->edge_length, "Target quad edge length (input units)");
+  auto* el =
+      sub->add_option("--edge-length", a->edge_length, "Target quad edge length (input units)");
   sub->add_option("--quads", a->quads, "Target number of quads")->excludes(el);
   sub->add_option("--seed", a->seed, "Random seed")->capture_default_str();
   sub->add_flag("--json", a->json, "Print a JSON summary");
@@ -56,36 +58,41 @@ Runner add_segment(CLI::App& app) {
       so.meta.corner_window = o.target_edge_length;
       SegmentResult seg = segment(c.mesh, c.feature, so);
       const MetaMesh& mm = seg.meta;
-      summary.push_back({{"component", c.report_index},
-                         {"patches", seg.num_patches},
-                         {"vsa_patches", seg.vsa_patches},
-                         {"meta_vertices", mm.vertices.size()},
-                         {"meta_edges", mm.edges.size()},
-                         {"meta_faces", mm.faces.size()},
-                         {"inserted_meta_vertices", mm.inserted},
-                         {"euler", mm.euler()},
-                         {"dividing_edges_split", seg.dividing_splits},
-                         {"repairs",
-                          {{"disconnected_split", seg.repair.disconnected_split},
-                           {"pinches_fixed", seg.repair.pinches_fixed},
-                           {"voronoi_splits", seg.repair.voronoi_splits},
-                           {"two_path_cuts", seg.repair.two_path_cuts},
-                           {"tiny_merged", seg.repair.tiny_merged}}},
-                         {"straighten",
-                          {{"ears", seg.straighten.ears},
-                           {"geodesic", seg.straighten.geodesic},
-                           {"seam_length_before", seg.straighten.seam_length_before / prep.normalization.scale},
-                           {"seam_length_after", seg.straighten.seam_length_after / prep.normalization.scale}}},
-                         {"vsa_iterations", seg.energy_log.size()},
-                         {"vsa_energy", seg.energy_log.back()}});
+      summary.push_back(
+          {{"component", c.report_index},
+           {"patches", seg.num_patches},
+           {"vsa_patches", seg.vsa_patches},
+           {"meta_vertices", mm.vertices.size()},
+           {"meta_edges", mm.edges.size()},
+           {"meta_faces", mm.faces.size()},
+           {"inserted_meta_vertices", mm.inserted},
+           {"euler", mm.euler()},
+           {"dividing_edges_split", seg.dividing_splits},
+           {"repairs",
+            {{"disconnected_split", seg.repair.disconnected_split},
+             {"pinches_fixed", seg.repair.pinches_fixed},
+             {"voronoi_splits", seg.repair.voronoi_splits},
+             {"two_path_cuts", seg.repair.two_path_cuts},
+             {"tiny_merged", seg.repair.tiny_merged}}},
+           {"straighten",
+            {{"ears", seg.straighten.ears},
+             {"geodesic", seg.straighten.geodesic},
+             {"seam_length_before", seg.straighten.seam_length_before / prep.normalization.scale},
+             {"seam_length_after", seg.straighten.seam_length_after / prep.normalization.scale}}},
+           {"vsa_iterations", seg.energy_log.size()},
+           {"vsa_energy", seg.energy_log.back()}});
       if (!a->json)
-        fmt::print("component {}: {} patches ({} from VSA), {} meta-vertices ({} inserted), {} meta-edges, "
-                   "euler {}; repairs: {} split, {} pinches, {} voronoi, {} two-path, {} tiny; straightened {} ears, {} "
-                   "geodesic, seams {:.3g} -> {:.3g}\n",
-                   c.report_index, seg.num_patches, seg.vsa_patches, mm.vertices.size(), mm.inserted,
-                   mm.edges.size(), mm.euler(), seg.repair.disconnected_split, seg.repair.pinches_fixed,
-                   seg.repair.voronoi_splits, seg.repair.two_path_cuts, seg.repair.tiny_merged, seg.straighten.ears,
-                   seg.straighten.geodesic, seg.straighten.seam_length_before, seg.straighten.seam_length_after);
+        fmt::print(
+            "component {}: {} patches ({} from VSA), {} meta-vertices ({} inserted), {} "
+            "meta-edges, "
+            "euler {}; repairs: {} split, {} pinches, {} voronoi, {} two-path, {} tiny; "
+            "straightened {} ears, {} "
+            "geodesic, seams {:.3g} -> {:.3g}\n",
+            c.report_index, seg.num_patches, seg.vsa_patches, mm.vertices.size(), mm.inserted,
+            mm.edges.size(), mm.euler(), seg.repair.disconnected_split, seg.repair.pinches_fixed,
+            seg.repair.voronoi_splits, seg.repair.two_path_cuts, seg.repair.tiny_merged,
+            seg.straighten.ears, seg.straighten.geodesic, seg.straighten.seam_length_before,
+            seg.straighten.seam_length_after);
       const TriMesh& rm = seg.refined.mesh;
       const uint32_t base = uint32_t(out.positions.size());
       for (const Vec3& p : rm.positions()) out.positions.push_back(prep.normalization.invert(p));
@@ -94,7 +101,8 @@ Runner add_segment(CLI::App& app) {
         out.add_face({t[0] + base, t[1] + base, t[2] + base});
         out.face_group.push_back(int32_t(seg.labels[f] + offset));
         const Rgb col = distinct_color(seg.labels[f] + offset);
-        out.face_color.push_back({uint8_t(col.r * 255), uint8_t(col.g * 255), uint8_t(col.b * 255)});
+        out.face_color.push_back(
+            {uint8_t(col.r * 255), uint8_t(col.g * 255), uint8_t(col.b * 255)});
       }
       offset += seg.num_patches;
       shown.push_back(std::move(seg));
@@ -103,16 +111,19 @@ Runner add_segment(CLI::App& app) {
     if (!a->output.empty()) write_mesh(a->output, out);
     if (!a->png.empty()) {
       Box3 box;
-      for (const SegmentResult& s : shown) box.add(s.refined.mesh.bounding_box().lo), box.add(s.refined.mesh.bounding_box().hi);
+      for (const SegmentResult& s : shown)
+        box.add(s.refined.mesh.bounding_box().lo), box.add(s.refined.mesh.bounding_box().hi);
       Canvas canvas(1200, 1000, box, Camera{});
       for (const SegmentResult& s : shown) {
         const TriMesh& m = s.refined.mesh;
         canvas.fill(m, [&](uint32_t f) { return distinct_color(s.labels[f]); });
         for (const MetaEdge& e : s.meta.edges)
           for (std::size_t k = 0; k + 1 < e.vertices.size(); ++k)
-            canvas.line(m.position(e.vertices[k]), m.position(e.vertices[k + 1]), {0.1, 0.1, 0.1}, 1.6);
+            canvas.line(m.position(e.vertices[k]), m.position(e.vertices[k + 1]), {0.1, 0.1, 0.1},
+                        1.6);
         for (const MetaVertex& v : s.meta.vertices)
-          canvas.point(m.position(v.vertex), v.inserted ? Rgb{1.0, 0.85, 0.1} : Rgb{0.9, 0.1, 0.1}, 4.5);
+          canvas.point(m.position(v.vertex), v.inserted ? Rgb{1.0, 0.85, 0.1} : Rgb{0.9, 0.1, 0.1},
+                       4.5);
       }
       canvas.save_png(a->png);
     }

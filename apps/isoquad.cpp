@@ -1,6 +1,6 @@
 // isoquad: the command line, a thin shell over the library. Only this layer prints and exits.
-#include <cstdio>
 #include <fmt/format.h>
+#include <cstdio>
 
 #include "commands.hpp"
 #include "isoquad/error.hpp"

@@ -32,13 +32,15 @@ inline void add_prep_options(CLI::App& sub, PrepArgs& a) {
                "instead of rejecting the input");
   sub.add_option("--weld-eps", a.weld_eps,
                  "Weld boundary vertices closer than this fraction of the bounding-box diagonal")
-      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.1));
   sub.add_option("--min-component-faces", a.min_component_faces,
                  "Drop connected components with fewer faces (with a warning)")
       ->capture_default_str();
   sub.add_option("--feature-angle", a.feature_angle,
                  "Dihedral angle in degrees above which an edge is a feature (0: none)")
-      ->capture_default_str()->check(CLI::Range(0.0, 180.0));
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 180.0));
 }
 
 }  // namespace isoquad::cli

@@ -24,14 +24,16 @@ std::string slurp(const std::filesystem::path& p) {
 
 void BM_ReadFile(benchmark::State& state, const char* name) {
   const auto path = corpus(name);
-  if (!std::filesystem::exists(path)) return state.SkipWithError("corpus missing: run scripts/get-corpus");
+  if (!std::filesystem::exists(path))
+    return state.SkipWithError("corpus missing: run scripts/get-corpus");
   for (auto _ : state) benchmark::DoNotOptimize(isoquad::read_mesh(path));
   state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(std::filesystem::file_size(path)));
 }
 
 void BM_ParseMemory(benchmark::State& state, const char* name) {
   const auto path = corpus(name);
-  if (!std::filesystem::exists(path)) return state.SkipWithError("corpus missing: run scripts/get-corpus");
+  if (!std::filesystem::exists(path))
+    return state.SkipWithError("corpus missing: run scripts/get-corpus");
   const std::string bytes = slurp(path);
   for (auto _ : state)
     benchmark::DoNotOptimize(isoquad::read_mesh_from_memory(bytes, isoquad::MeshFormat::off, name));
@@ -39,7 +41,8 @@ void BM_ParseMemory(benchmark::State& state, const char* name) {
 
 void BM_Prepare(benchmark::State& state, const char* name) {
   const auto path = corpus(name);
-  if (!std::filesystem::exists(path)) return state.SkipWithError("corpus missing: run scripts/get-corpus");
+  if (!std::filesystem::exists(path))
+    return state.SkipWithError("corpus missing: run scripts/get-corpus");
   const auto read = isoquad::read_mesh(path);
   for (auto _ : state) benchmark::DoNotOptimize(isoquad::prepare(read.mesh));
 }

@@ -48,7 +48,8 @@ void BM_Layout(benchmark::State& state, const char* name) {
   for (auto _ : state) {
     isoquad::MetaMesh meta = p->seg.meta;
     report = {};
-    benchmark::DoNotOptimize(isoquad::solve_layout(p->seg.refined.mesh, p->seg.labels, p->seg.feature, meta, o, report));
+    benchmark::DoNotOptimize(
+        isoquad::solve_layout(p->seg.refined.mesh, p->seg.labels, p->seg.feature, meta, o, report));
   }
   state.counters["corner_ms"] = 1e3 * report.corner_seconds;
   state.counters["length_ms"] = 1e3 * report.length_seconds;
@@ -58,5 +59,11 @@ void BM_Layout(benchmark::State& state, const char* name) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_Layout, fandisk, "fandisk.off")->Arg(1500)->Arg(20000)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Layout, bunny00, "bunny00.off")->Arg(1500)->Arg(20000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Layout, fandisk, "fandisk.off")
+    ->Arg(1500)
+    ->Arg(20000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Layout, bunny00, "bunny00.off")
+    ->Arg(1500)
+    ->Arg(20000)
+    ->Unit(benchmark::kMillisecond);

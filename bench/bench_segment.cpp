@@ -48,7 +48,13 @@ void BM_Vsa(benchmark::State& state, const char* name) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_Segment, fandisk, "fandisk.off")->Arg(0)->Arg(30)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Segment, bunny00, "bunny00.off")->Arg(0)->Arg(30)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Segment, fandisk, "fandisk.off")
+    ->Arg(0)
+    ->Arg(30)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Segment, bunny00, "bunny00.off")
+    ->Arg(0)
+    ->Arg(30)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Vsa, fandisk, "fandisk.off")->Arg(30)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Vsa, bunny00, "bunny00.off")->Arg(30)->Unit(benchmark::kMillisecond);

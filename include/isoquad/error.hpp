@@ -26,8 +26,8 @@ std::string_view to_string(ErrorKind kind);
 // Where an error was found. Empty fields are unknown or not applicable.
 struct ErrorContext {
   std::string file;
-  int64_t line = -1;         // 1-based line in a text file
-  int64_t byte_offset = -1;  // 0-based offset in a binary file
+  int64_t line = -1;               // 1-based line in a text file
+  int64_t byte_offset = -1;        // 0-based offset in a binary file
   std::vector<uint32_t> vertices;  // input vertex ids, 0-based
   std::vector<uint32_t> faces;     // input face ids, 0-based
 };

@@ -35,9 +35,13 @@ struct FaceTag {};
 struct EdgeTag {};
 struct HalfedgeTag {};
 
-template <class T> using VertexData = ElementData<VertexTag, T>;
-template <class T> using FaceData = ElementData<FaceTag, T>;
-template <class T> using EdgeData = ElementData<EdgeTag, T>;
-template <class T> using HalfedgeData = ElementData<HalfedgeTag, T>;
+template <class T>
+using VertexData = ElementData<VertexTag, T>;
+template <class T>
+using FaceData = ElementData<FaceTag, T>;
+template <class T>
+using EdgeData = ElementData<EdgeTag, T>;
+template <class T>
+using HalfedgeData = ElementData<HalfedgeTag, T>;
 
 }  // namespace isoquad

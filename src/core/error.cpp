@@ -8,12 +8,18 @@ namespace isoquad {
 
 std::string_view to_string(ErrorKind kind) {
   switch (kind) {
-    case ErrorKind::invalid_input: return "invalid input";
-    case ErrorKind::unsupported_topology: return "unsupported topology";
-    case ErrorKind::layout: return "layout failed";
-    case ErrorKind::solver: return "solver failed";
-    case ErrorKind::extraction: return "extraction failed";
-    case ErrorKind::internal: return "internal error";
+    case ErrorKind::invalid_input:
+      return "invalid input";
+    case ErrorKind::unsupported_topology:
+      return "unsupported topology";
+    case ErrorKind::layout:
+      return "layout failed";
+    case ErrorKind::solver:
+      return "solver failed";
+    case ErrorKind::extraction:
+      return "extraction failed";
+    case ErrorKind::internal:
+      return "internal error";
   }
   return "error";
 }
@@ -23,7 +29,8 @@ namespace {
 std::string located(const std::string& message, const ErrorContext& ctx) {
   if (ctx.file.empty()) return message;
   if (ctx.line >= 0) return fmt::format("{}:{}: {}", ctx.file, ctx.line, message);
-  if (ctx.byte_offset >= 0) return fmt::format("{} (byte {}): {}", ctx.file, ctx.byte_offset, message);
+  if (ctx.byte_offset >= 0)
+    return fmt::format("{} (byte {}): {}", ctx.file, ctx.byte_offset, message);
   return fmt::format("{}: {}", ctx.file, message);
 }
 }  // namespace

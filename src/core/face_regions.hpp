@@ -10,7 +10,8 @@
 namespace isoquad {
 
 template <class Connects, class Inside>
-uint32_t face_regions(const TriMesh& m, Connects&& connects, Inside&& in, std::vector<uint32_t>& region) {
+uint32_t face_regions(const TriMesh& m, Connects&& connects, Inside&& in,
+                      std::vector<uint32_t>& region) {
   region.assign(m.num_faces(), kInvalid);
   uint32_t count = 0;
   std::vector<uint32_t> stack;
@@ -38,7 +39,8 @@ uint32_t face_regions(const TriMesh& m, Connects&& connects, Inside&& in, std::v
 
 template <class Connects>
 uint32_t face_regions(const TriMesh& m, Connects&& connects, std::vector<uint32_t>& region) {
-  return face_regions(m, connects, [](uint32_t) { return true; }, region);
+  return face_regions(
+      m, connects, [](uint32_t) { return true; }, region);
 }
 
 }  // namespace isoquad

@@ -14,7 +14,8 @@ namespace isoquad {
 
 struct PolyMesh {
   std::vector<Vec3> positions;
-  std::vector<uint32_t> face_offsets{0};  // face f is face_vertices[face_offsets[f] .. face_offsets[f+1])
+  std::vector<uint32_t> face_offsets{
+      0};  // face f is face_vertices[face_offsets[f] .. face_offsets[f+1])
   std::vector<uint32_t> face_vertices;
   std::vector<int32_t> face_group;  // optional per-face group (patch id); empty or one per face
   std::vector<std::array<uint8_t, 3>> face_color;  // optional per-face RGB; empty or one per face

@@ -29,8 +29,8 @@ std::array<double, 3> midpoint(const std::array<double, 3>& a, const std::array<
 }
 }  // namespace
 
-RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edges, FaceData<uint32_t>* face_labels,
-                        EdgeData<char>* edge_flags) {
+RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edges,
+                        FaceData<uint32_t>* face_labels, EdgeData<char>* edge_flags) {
   const TriMesh& m = in.mesh;
   std::vector<uint32_t> mid(m.num_edges(), kInvalid);  // edge -> new vertex
   std::vector<Vec3> positions = m.positions();
@@ -43,7 +43,8 @@ RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edge
   std::vector<Tri> faces;
   std::vector<uint32_t> base_face, labels;
   std::vector<std::array<std::array<double, 3>, 3>> bary;
-  std::vector<std::array<uint32_t, 3>> old_edge;  // per new face corner i: base edge of halfedge i, or kInvalid
+  std::vector<std::array<uint32_t, 3>>
+      old_edge;  // per new face corner i: base edge of halfedge i, or kInvalid
   for (uint32_t f = 0; f < m.num_faces(); ++f) {
     // Corners of the face and of the edge midpoints, as (vertex, barycentric, edge-of-origin).
     const Tri& t = m.face(f);
@@ -62,7 +63,8 @@ RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edge
     // Rotate so that the pattern starts at a fixed edge.
     int r = 0;
     if (splits == 1) r = first;
-    if (splits == 2) r = ms[0] == kInvalid ? 1 : (ms[1] == kInvalid ? 2 : 0);  // unsplit edge becomes edge 2
+    if (splits == 2)
+      r = ms[0] == kInvalid ? 1 : (ms[1] == kInvalid ? 2 : 0);  // unsplit edge becomes edge 2
     auto V = [&](int i) { return t[(i + r) % 3]; };
     auto B = [&](int i) { return cb[(i + r) % 3]; };
     auto M = [&](int i) { return ms[(i + r) % 3]; };
@@ -82,7 +84,8 @@ RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edge
     const uint32_t X = kInvalid;
     const Corner v0{V(0), B(0)}, v1{V(1), B(1)}, v2{V(2), B(2)};
     if (splits == 0) {
-      emit({t[0], cb[0]}, {t[1], cb[1]}, {t[2], cb[2]}, {m.edge(3 * f), m.edge(3 * f + 1), m.edge(3 * f + 2)});
+      emit({t[0], cb[0]}, {t[1], cb[1]}, {t[2], cb[2]},
+           {m.edge(3 * f), m.edge(3 * f + 1), m.edge(3 * f + 2)});
     } else if (splits == 1) {
       const Corner m0{M(0), MB(0)};
       emit(v0, m0, v2, {E(0), X, E(2)});
@@ -116,7 +119,8 @@ RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edge
     EdgeData<char> flags(out.mesh.num_edges(), 0);
     for (uint32_t nf = 0; nf < out.mesh.num_faces(); ++nf)
       for (int i = 0; i < 3; ++i)
-        if (old_edge[nf][i] != kInvalid) flags[out.mesh.edge(3 * nf + i)] = (*edge_flags)[old_edge[nf][i]];
+        if (old_edge[nf][i] != kInvalid)
+          flags[out.mesh.edge(3 * nf + i)] = (*edge_flags)[old_edge[nf][i]];
     *edge_flags = std::move(flags);
   }
   return out;

@@ -19,7 +19,7 @@ struct SurfacePoint {
 
 struct RefinedMesh {
   TriMesh mesh;
-  FaceData<uint32_t> base_face;                         // base face containing each face
+  FaceData<uint32_t> base_face;                                // base face containing each face
   FaceData<std::array<std::array<double, 3>, 3>> corner_bary;  // each corner in its base face
   uint32_t base_vertices = 0;  // vertices [0, base_vertices) are the base mesh's, same ids
 

@@ -11,10 +11,14 @@ using Lattice = std::array<int64_t, 2>;
 
 inline Lattice rotate(Lattice p, int k) {
   switch (((k % 4) + 4) % 4) {
-    case 1: return {-p[1], p[0]};
-    case 2: return {-p[0], -p[1]};
-    case 3: return {p[1], -p[0]};
-    default: return p;
+    case 1:
+      return {-p[1], p[0]};
+    case 2:
+      return {-p[0], -p[1]};
+    case 3:
+      return {p[1], -p[0]};
+    default:
+      return p;
   }
 }
 

@@ -1,7 +1,7 @@
 #include "core/tri_mesh.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 
 #include "core/edge_groups.hpp"
 #include "isoquad/error.hpp"
@@ -129,12 +129,14 @@ uint32_t TriMesh::valence(uint32_t v) const {
 
 Vec3 TriMesh::face_normal(uint32_t f) const {
   const Tri& t = faces_[f];
-  return normalized(cross(positions_[t[1]] - positions_[t[0]], positions_[t[2]] - positions_[t[0]]));
+  return normalized(
+      cross(positions_[t[1]] - positions_[t[0]], positions_[t[2]] - positions_[t[0]]));
 }
 
 double TriMesh::face_area(uint32_t f) const {
   const Tri& t = faces_[f];
-  return 0.5 * norm(cross(positions_[t[1]] - positions_[t[0]], positions_[t[2]] - positions_[t[0]]));
+  return 0.5 *
+         norm(cross(positions_[t[1]] - positions_[t[0]], positions_[t[2]] - positions_[t[0]]));
 }
 
 Box3 TriMesh::bounding_box() const {

@@ -41,7 +41,9 @@ class TriMesh {
   bool is_boundary_halfedge(uint32_t h) const { return twin_[h] == kInvalid; }
 
   uint32_t edge(uint32_t h) const { return halfedge_edge_[h]; }
-  uint32_t edge_halfedge(uint32_t e) const { return edge_halfedge_[e]; }  // the side that has a face
+  uint32_t edge_halfedge(uint32_t e) const {
+    return edge_halfedge_[e];
+  }  // the side that has a face
   bool is_boundary_edge(uint32_t e) const { return is_boundary_halfedge(edge_halfedge_[e]); }
 
   // An outgoing halfedge of v; for a boundary vertex the one on the boundary, so that

@@ -1,12 +1,12 @@
 #include "io/parse_util.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 
 namespace isoquad::io {
 
-void fail_at_line(const std::string& file, int64_t line, const char* code, const std::string& message,
-                  std::initializer_list<uint32_t> faces) {
+void fail_at_line(const std::string& file, int64_t line, const char* code,
+                  const std::string& message, std::initializer_list<uint32_t> faces) {
   ErrorContext ctx;
   ctx.file = file;
   ctx.line = line;
@@ -69,7 +69,8 @@ double TextCursor::parse_double(std::string_view token, std::string_view what) c
     fail(kNonFinite, fmt::format("{} '{}' is out of the range of a double", what, token));
   if (ec != std::errc() || ptr != t.data() + t.size())
     fail(kSyntax, fmt::format("{} '{}' is not a number", what, token));
-  if (!std::isfinite(value)) fail(kNonFinite, fmt::format("{} is '{}' (NaN or infinite)", what, token));
+  if (!std::isfinite(value))
+    fail(kNonFinite, fmt::format("{} is '{}' (NaN or infinite)", what, token));
   return value;
 }
 

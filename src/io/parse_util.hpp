@@ -3,8 +3,8 @@
 #pragma once
 
 #include <charconv>
-#include <span>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,7 +27,8 @@ inline constexpr const char* kCountMismatch = "E015";
 inline constexpr const char* kEmpty = "E016";
 
 [[noreturn]] void fail_at_line(const std::string& file, int64_t line, const char* code,
-                               const std::string& message, std::initializer_list<uint32_t> faces = {});
+                               const std::string& message,
+                               std::initializer_list<uint32_t> faces = {});
 [[noreturn]] void fail_at_byte(const std::string& file, int64_t offset, const char* code,
                                const std::string& message);
 
@@ -75,8 +76,8 @@ struct FaceChecker {
     for (int64_t i : indices) {
       if (i < 0 || i >= nv)
         where(kIndexRange, "face references vertex " + std::to_string(i) + " but the file has " +
-                               std::to_string(nv) + " vertices (valid: 0.." + std::to_string(nv - 1) +
-                               ")");
+                               std::to_string(nv) + " vertices (valid: 0.." +
+                               std::to_string(nv - 1) + ")");
       if (scratch.empty() || scratch.back() != uint32_t(i)) scratch.push_back(uint32_t(i));
     }
     while (scratch.size() > 1 && scratch.back() == scratch.front()) scratch.pop_back();
@@ -85,8 +86,9 @@ struct FaceChecker {
         ++result.dropped_faces;
         return;
       }
-      where(kDegenerateFace, "face " + std::to_string(result.mesh.num_faces() + result.dropped_faces) +
-                                 " has fewer than 3 distinct vertices (use --repair to drop such faces)");
+      where(kDegenerateFace,
+            "face " + std::to_string(result.mesh.num_faces() + result.dropped_faces) +
+                " has fewer than 3 distinct vertices (use --repair to drop such faces)");
     }
     result.mesh.add_face(scratch);
   }
@@ -99,8 +101,8 @@ struct FaceChecker {
 template <class Fail>
 void add_vertex(PolyMesh& mesh, Vec3 p, Fail&& where) {
   if (!is_finite(p))
-    where(kNonFinite, "vertex " + std::to_string(mesh.num_vertices()) +
-                          " has a NaN or infinite coordinate");
+    where(kNonFinite,
+          "vertex " + std::to_string(mesh.num_vertices()) + " has a NaN or infinite coordinate");
   mesh.positions.push_back(p);
 }
 

@@ -1,14 +1,14 @@
 #include "io/read_mesh.hpp"
 
-#include <algorithm>
-#include <fmt/format.h>
-#include <cerrno>
-#include <cstring>
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
-#include <system_error>
 #include <unistd.h>
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <system_error>
 
 #include "io/parse_util.hpp"
 
@@ -16,10 +16,14 @@ namespace isoquad {
 
 std::string_view to_string(MeshFormat format) {
   switch (format) {
-    case MeshFormat::obj: return "obj";
-    case MeshFormat::off: return "off";
-    case MeshFormat::ply: return "ply";
-    case MeshFormat::stl: return "stl";
+    case MeshFormat::obj:
+      return "obj";
+    case MeshFormat::off:
+      return "off";
+    case MeshFormat::ply:
+      return "ply";
+    case MeshFormat::stl:
+      return "stl";
   }
   return "?";
 }
@@ -39,7 +43,8 @@ class MappedFile {
       ErrorContext ctx;
       ctx.file = name;
       throw Error(ErrorKind::invalid_input, io::kUnreadable,
-                  errno == ENOENT ? "no such file" : std::string("cannot be opened: ") + std::strerror(errno),
+                  errno == ENOENT ? "no such file"
+                                  : std::string("cannot be opened: ") + std::strerror(errno),
                   ctx);
     }
     struct stat st {};
@@ -49,7 +54,8 @@ class MappedFile {
     data_ = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd_, 0);
     if (data_ == MAP_FAILED) {
       data_ = nullptr;
-      io::fail_at_line(name, -1, io::kUnreadable, std::string("cannot be mapped: ") + std::strerror(errno));
+      io::fail_at_line(name, -1, io::kUnreadable,
+                       std::string("cannot be mapped: ") + std::strerror(errno));
     }
   }
   ~MappedFile() {
@@ -68,12 +74,18 @@ class MappedFile {
 
 bool format_from_extension(const std::filesystem::path& path, MeshFormat& out) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext == ".obj") out = MeshFormat::obj;
-  else if (ext == ".off") out = MeshFormat::off;
-  else if (ext == ".ply") out = MeshFormat::ply;
-  else if (ext == ".stl") out = MeshFormat::stl;
-  else return false;
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".obj")
+    out = MeshFormat::obj;
+  else if (ext == ".off")
+    out = MeshFormat::off;
+  else if (ext == ".ply")
+    out = MeshFormat::ply;
+  else if (ext == ".stl")
+    out = MeshFormat::stl;
+  else
+    return false;
   return true;
 }
 
@@ -81,14 +93,17 @@ bool format_from_content(std::string_view bytes, MeshFormat& out) {
   const std::size_t first = bytes.find_first_not_of(" \t\r\n");
   if (first == std::string_view::npos) return false;
   const std::string_view head = bytes.substr(first, 16);
-  if (head.starts_with("ply")) out = MeshFormat::ply;
+  if (head.starts_with("ply"))
+    out = MeshFormat::ply;
   else if (head.starts_with("solid") || (bytes.size() >= 84 && bytes.find('\0') < 84))
     out = MeshFormat::stl;
-  else if (head.find("OFF") != std::string_view::npos && head.find("OFF") < 5) out = MeshFormat::off;
+  else if (head.find("OFF") != std::string_view::npos && head.find("OFF") < 5)
+    out = MeshFormat::off;
   else if (head.starts_with("v ") || head.starts_with("#") || head.starts_with("o ") ||
            head.starts_with("mtllib") || head.starts_with("g "))
     out = MeshFormat::obj;
-  else return false;
+  else
+    return false;
   return true;
 }
 
@@ -100,16 +115,25 @@ ReadResult read_mesh_from_memory(std::string_view bytes, MeshFormat format, cons
     io::fail_at_line(name, -1, io::kEmpty, "the file is empty");
   ReadResult r;
   switch (format) {
-    case MeshFormat::obj: r = io::read_obj(bytes, name, options); break;
-    case MeshFormat::off: r = io::read_off(bytes, name, options); break;
-    case MeshFormat::ply: r = io::read_ply(bytes, name, options); break;
-    case MeshFormat::stl: r = io::read_stl(bytes, name, options); break;
+    case MeshFormat::obj:
+      r = io::read_obj(bytes, name, options);
+      break;
+    case MeshFormat::off:
+      r = io::read_off(bytes, name, options);
+      break;
+    case MeshFormat::ply:
+      r = io::read_ply(bytes, name, options);
+      break;
+    case MeshFormat::stl:
+      r = io::read_stl(bytes, name, options);
+      break;
   }
   if (r.mesh.num_faces() == 0)
-    io::fail_at_line(name, -1, io::kEmpty,
-                     r.dropped_faces ? fmt::format("no face is left after dropping {} degenerate faces",
-                                                   r.dropped_faces)
-                                     : std::string("the file has no faces"));
+    io::fail_at_line(
+        name, -1, io::kEmpty,
+        r.dropped_faces
+            ? fmt::format("no face is left after dropping {} degenerate faces", r.dropped_faces)
+            : std::string("the file has no faces"));
   return r;
 }
 

@@ -25,8 +25,8 @@ struct ReadResult {
   PolyMesh mesh;  // faces as in the file (polygons allowed), 0-based indices, all in range
   MeshFormat format = MeshFormat::obj;
   bool binary = false;
-  uint32_t dropped_faces = 0;       // faces with < 3 distinct vertices (only with the option)
-  bool unshared_vertices = false;   // STL: every face has its own vertices; weld everything
+  uint32_t dropped_faces = 0;      // faces with < 3 distinct vertices (only with the option)
+  bool unshared_vertices = false;  // STL: every face has its own vertices; weld everything
 };
 
 // Picks the format from the extension (case-insensitive), or from the content when the

@@ -10,10 +10,11 @@ namespace isoquad::io {
 namespace {
 bool is_ignored_statement(std::string_view s) {
   static constexpr std::string_view kIgnored[] = {
-      "vt", "vn", "vp", "g", "o", "s", "usemtl", "mtllib", "l", "p", "mg", "maplib", "usemap",
-      "lod", "shadow_obj", "trace_obj", "bevel", "c_interp", "d_interp", "cstype", "deg", "curv",
-      "curv2", "surf", "parm", "trim", "hole", "scrv", "sp", "end", "con", "bmat", "step", "ctech",
-      "stech"};
+      "vt",         "vn",        "vp",    "g",        "o",        "s",      "usemtl",
+      "mtllib",     "l",         "p",     "mg",       "maplib",   "usemap", "lod",
+      "shadow_obj", "trace_obj", "bevel", "c_interp", "d_interp", "cstype", "deg",
+      "curv",       "curv2",     "surf",  "parm",     "trim",     "hole",   "scrv",
+      "sp",         "end",       "con",   "bmat",     "step",     "ctech",  "stech"};
   for (std::string_view k : kIgnored)
     if (s == k) return true;
   return false;
@@ -32,7 +33,8 @@ ReadResult read_obj(std::string_view text, const std::string& file, const ReadOp
     cur.next_token(tok);
     if (tok == "v") {
       Vec3 p;
-      for (int i = 0; i < 3; ++i) p[i] = cur.parse_double(cur.expect_token("a coordinate"), "coordinate");
+      for (int i = 0; i < 3; ++i)
+        p[i] = cur.parse_double(cur.expect_token("a coordinate"), "coordinate");
       add_vertex(result.mesh, p, where);
     } else if (tok == "f" || tok == "fo") {
       idx.clear();
@@ -44,11 +46,12 @@ ReadResult read_obj(std::string_view text, const std::string& file, const ReadOp
         idx.push_back(i > 0 ? i - 1 : nv + i);  // negative: relative to the vertices so far
         if (i < 0 && nv + i < 0)
           cur.fail(kIndexRange, fmt::format("relative vertex index {} reaches before the first "
-                                            "vertex ({} vertices so far)", i, nv));
+                                            "vertex ({} vertices so far)",
+                                            i, nv));
       }
       if (idx.size() < 3)
-        cur.fail(kDegenerateFace, fmt::format("face has {} vertices; a face needs at least 3",
-                                              idx.size()));
+        cur.fail(kDegenerateFace,
+                 fmt::format("face has {} vertices; a face needs at least 3", idx.size()));
       faces.add(idx, where);
     } else if (!is_ignored_statement(tok)) {
       cur.fail(kSyntax, fmt::format("unknown OBJ statement '{}'", tok));

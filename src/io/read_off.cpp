@@ -19,7 +19,8 @@ ReadResult read_off(std::string_view text, const std::string& file, const ReadOp
   if (tok.find('4') != std::string_view::npos || tok.find('n') != std::string_view::npos)
     cur.fail(kUnknownFormat, fmt::format("'{}' (4D or n-dimensional OFF) is not supported", tok));
   if (cur.next_token(tok)) {
-    if (tok == "BINARY") cur.fail(kUnknownFormat, "binary OFF is not supported; convert it to ascii");
+    if (tok == "BINARY")
+      cur.fail(kUnknownFormat, "binary OFF is not supported; convert it to ascii");
   } else {
     if (!cur.next_line()) cur.fail(kTruncated, "the file ends before the vertex and face counts");
     cur.next_token(tok);
@@ -32,10 +33,12 @@ ReadResult read_off(std::string_view text, const std::string& file, const ReadOp
 
   for (int64_t i = 0; i < nv; ++i) {
     if (!cur.next_line())
-      fail_at_line(file, cur.line_number(), kCountMismatch,
-                   fmt::format("the header declares {} vertices but the file ends after {}", nv, i));
+      fail_at_line(
+          file, cur.line_number(), kCountMismatch,
+          fmt::format("the header declares {} vertices but the file ends after {}", nv, i));
     Vec3 p;
-    for (int k = 0; k < 3; ++k) p[k] = cur.parse_double(cur.expect_token("a coordinate"), "coordinate");
+    for (int k = 0; k < 3; ++k)
+      p[k] = cur.parse_double(cur.expect_token("a coordinate"), "coordinate");
     add_vertex(result.mesh, p, where);
   }
   FaceChecker faces{options, result, {}};
@@ -46,7 +49,8 @@ ReadResult read_off(std::string_view text, const std::string& file, const ReadOp
                    fmt::format("the header declares {} faces but the file ends after {}", nf, f));
     const int64_t n = cur.parse_int(cur.expect_token("the face size"), "face size");
     if (n < 3)
-      cur.fail(kDegenerateFace, fmt::format("face {} has {} vertices; a face needs at least 3", f, n));
+      cur.fail(kDegenerateFace,
+               fmt::format("face {} has {} vertices; a face needs at least 3", f, n));
     idx.clear();
     for (int64_t k = 0; k < n; ++k)
       idx.push_back(cur.parse_int(cur.expect_token("a vertex index"), "vertex index"));
@@ -54,7 +58,8 @@ ReadResult read_off(std::string_view text, const std::string& file, const ReadOp
   }
   if (cur.next_line())
     cur.fail(kCountMismatch, fmt::format("unexpected data after the {} vertices and {} faces the "
-                                         "header declares", nv, nf));
+                                         "header declares",
+                                         nv, nf));
   return result;
 }
 

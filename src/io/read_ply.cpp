@@ -1,9 +1,9 @@
 // PLY (ascii, binary_little_endian, binary_big_endian). Vertex x, y, z of any numeric type; the
 // face list `vertex_indices` (or `vertex_index`); every other element and property is skipped
 // with its exact size, so unknown properties never shift the data.
+#include <fmt/format.h>
 #include <bit>
 #include <cstring>
-#include <fmt/format.h>
 
 #include "io/parse_util.hpp"
 
@@ -31,10 +31,18 @@ bool parse_scalar(std::string_view s, Scalar& out) {
 
 std::size_t scalar_size(Scalar s) {
   switch (s) {
-    case Scalar::i8: case Scalar::u8: return 1;
-    case Scalar::i16: case Scalar::u16: return 2;
-    case Scalar::i32: case Scalar::u32: case Scalar::f32: return 4;
-    case Scalar::f64: return 8;
+    case Scalar::i8:
+    case Scalar::u8:
+      return 1;
+    case Scalar::i16:
+    case Scalar::u16:
+      return 2;
+    case Scalar::i32:
+    case Scalar::u32:
+    case Scalar::f32:
+      return 4;
+    case Scalar::f64:
+      return 8;
   }
   return 0;
 }
@@ -59,7 +67,9 @@ enum class Encoding { ascii, little, big };
 class BinaryCursor {
  public:
   BinaryCursor(std::string_view bytes, std::size_t pos, bool big_endian, const std::string& file)
-      : bytes_(bytes), pos_(pos), swap_(big_endian != (std::endian::native == std::endian::big)),
+      : bytes_(bytes),
+        pos_(pos),
+        swap_(big_endian != (std::endian::native == std::endian::big)),
         file_(file) {}
 
   double read(Scalar type, std::string_view what) {
@@ -74,14 +84,43 @@ class BinaryCursor {
       for (std::size_t i = 0; i < n / 2; ++i) std::swap(raw[i], raw[n - 1 - i]);
     pos_ += n;
     switch (type) {
-      case Scalar::i8: { int8_t v; std::memcpy(&v, raw, 1); return v; }
-      case Scalar::u8: return raw[0];
-      case Scalar::i16: { int16_t v; std::memcpy(&v, raw, 2); return v; }
-      case Scalar::u16: { uint16_t v; std::memcpy(&v, raw, 2); return v; }
-      case Scalar::i32: { int32_t v; std::memcpy(&v, raw, 4); return v; }
-      case Scalar::u32: { uint32_t v; std::memcpy(&v, raw, 4); return v; }
-      case Scalar::f32: { float v; std::memcpy(&v, raw, 4); return v; }
-      case Scalar::f64: { double v; std::memcpy(&v, raw, 8); return v; }
+      case Scalar::i8: {
+        int8_t v;
+        std::memcpy(&v, raw, 1);
+        return v;
+      }
+      case Scalar::u8:
+        return raw[0];
+      case Scalar::i16: {
+        int16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case Scalar::u16: {
+        uint16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case Scalar::i32: {
+        int32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case Scalar::u32: {
+        uint32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case Scalar::f32: {
+        float v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case Scalar::f64: {
+        double v;
+        std::memcpy(&v, raw, 8);
+        return v;
+      }
     }
     return 0;
   }
@@ -116,10 +155,14 @@ Header parse_header(std::string_view bytes, const std::string& file) {
     if (tok == "comment" || tok == "obj_info") continue;
     if (tok == "format") {
       const std::string_view enc = cur.expect_token("the encoding");
-      if (enc == "ascii") h.encoding = Encoding::ascii;
-      else if (enc == "binary_little_endian") h.encoding = Encoding::little;
-      else if (enc == "binary_big_endian") h.encoding = Encoding::big;
-      else cur.fail(kUnknownFormat, fmt::format("unknown PLY format '{}'", enc));
+      if (enc == "ascii")
+        h.encoding = Encoding::ascii;
+      else if (enc == "binary_little_endian")
+        h.encoding = Encoding::little;
+      else if (enc == "binary_big_endian")
+        h.encoding = Encoding::big;
+      else
+        cur.fail(kUnknownFormat, fmt::format("unknown PLY format '{}'", enc));
       have_format = true;
     } else if (tok == "element") {
       Element e;
@@ -138,7 +181,8 @@ Header parse_header(std::string_view bytes, const std::string& file) {
           cur.fail(kSyntax, "unknown list count type");
         type = cur.expect_token("the list item type");
       }
-      if (!parse_scalar(type, p.type)) cur.fail(kSyntax, fmt::format("unknown property type '{}'", type));
+      if (!parse_scalar(type, p.type))
+        cur.fail(kSyntax, fmt::format("unknown property type '{}'", type));
       p.name = std::string(cur.expect_token("the property name"));
       h.elements.back().properties.push_back(std::move(p));
     } else {
@@ -158,7 +202,8 @@ class BodyReader {
       : ascii_(h.encoding == Encoding::ascii),
         text_(bytes.substr(h.body_offset), file),
         bin_(bytes, h.body_offset, h.encoding == Encoding::big, file),
-        file_(file), body_line_(h.body_line) {}
+        file_(file),
+        body_line_(h.body_line) {}
 
   void begin_instance(const Element& e, int64_t i) {
     if (!ascii_) return;
@@ -215,20 +260,24 @@ ReadResult read_ply(std::string_view bytes, const std::string& file, const ReadO
       const Property& p = e.properties[k];
       if (is_vertex && !p.is_list && p.name.size() == 1 && p.name[0] >= 'x' && p.name[0] <= 'z')
         xyz[p.name[0] - 'x'] = k;
-      if (is_face && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) list = k;
+      if (is_face && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index"))
+        list = k;
     }
     if (is_vertex) {
       if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0)
-        fail_at_line(file, e.header_line, kSyntax, "the vertex element lacks an x, y or z property");
+        fail_at_line(file, e.header_line, kSyntax,
+                     "the vertex element lacks an x, y or z property");
       if (!faces.result.mesh.positions.empty())
         fail_at_line(file, e.header_line, kSyntax, "more than one vertex element");
       have_vertices = true;
-      result.mesh.positions.reserve(std::size_t(std::min<int64_t>(e.count, int64_t(bytes.size() / 3))));
+      result.mesh.positions.reserve(
+          std::size_t(std::min<int64_t>(e.count, int64_t(bytes.size() / 3))));
     }
     if (is_face && list < 0)
       fail_at_line(file, e.header_line, kSyntax, "the face element has no 'vertex_indices' list");
     if (is_face && !have_vertices)
-      fail_at_line(file, e.header_line, kSyntax, "the face element comes before the vertex element");
+      fail_at_line(file, e.header_line, kSyntax,
+                   "the face element comes before the vertex element");
     for (int64_t i = 0; i < e.count; ++i) {
       body.begin_instance(e, i);
       Vec3 p;
@@ -246,7 +295,8 @@ ReadResult read_ply(std::string_view bytes, const std::string& file, const ReadO
         for (int64_t j = 0; j < int64_t(n); ++j) {
           const double v = body.value(prop.type, prop.name);
           if (k == list) {
-            if (v != std::floor(v)) where(kSyntax, fmt::format("vertex index {} is not an integer", v));
+            if (v != std::floor(v))
+              where(kSyntax, fmt::format("vertex index {} is not an integer", v));
             idx.push_back(int64_t(v));
           }
         }
@@ -254,8 +304,8 @@ ReadResult read_ply(std::string_view bytes, const std::string& file, const ReadO
       if (is_vertex) add_vertex(result.mesh, p, where);
       if (is_face) {
         if (idx.size() < 3)
-          where(kDegenerateFace, fmt::format("face {} has {} vertices; a face needs at least 3", i,
-                                             idx.size()));
+          where(kDegenerateFace,
+                fmt::format("face {} has {} vertices; a face needs at least 3", i, idx.size()));
         faces.add(idx, where);
       }
     }

@@ -1,8 +1,8 @@
 // STL, ascii and binary. Every facet has its own three vertices (the result is flagged so that
 // preparation welds them). A file that starts with "solid" but whose size is exactly that of a
 // binary STL with the count in its header is binary: many exporters write such headers.
-#include <cstring>
 #include <fmt/format.h>
+#include <cstring>
 
 #include "io/parse_util.hpp"
 
@@ -10,21 +10,24 @@ namespace isoquad::io {
 
 namespace {
 
-ReadResult read_binary(std::string_view bytes, const std::string& file, const ReadOptions& options) {
+ReadResult read_binary(std::string_view bytes, const std::string& file,
+                       const ReadOptions& options) {
   ReadResult result;
   result.format = MeshFormat::stl;
   result.binary = true;
   result.unshared_vertices = true;
   if (bytes.size() < 84)
-    fail_at_byte(file, int64_t(bytes.size()), kTruncated,
-                 fmt::format("a binary STL needs an 84-byte header; the file has {} bytes", bytes.size()));
+    fail_at_byte(
+        file, int64_t(bytes.size()), kTruncated,
+        fmt::format("a binary STL needs an 84-byte header; the file has {} bytes", bytes.size()));
   uint32_t n = 0;
   std::memcpy(&n, bytes.data() + 80, 4);  // little endian on every platform we build for
   const uint64_t need = 84 + 50ull * n;
   if (bytes.size() < need)
-    fail_at_byte(file, int64_t(84 + 50ull * ((bytes.size() - 84) / 50)), kTruncated,
-                 fmt::format("the header declares {} triangles ({} bytes) but the file has {} bytes",
-                             n, need, bytes.size()));
+    fail_at_byte(
+        file, int64_t(84 + 50ull * ((bytes.size() - 84) / 50)), kTruncated,
+        fmt::format("the header declares {} triangles ({} bytes) but the file has {} bytes", n,
+                    need, bytes.size()));
   if (bytes.size() > need)
     fail_at_byte(file, int64_t(need), kCountMismatch,
                  fmt::format("{} bytes follow the {} declared triangles", bytes.size() - need, n));
@@ -60,7 +63,8 @@ ReadResult read_ascii(std::string_view text, const std::string& file, const Read
       fail_at_line(file, cur.line_number(), kTruncated,
                    fmt::format("the file ends where '{}' was expected", keyword));
     cur.next_token(tok);
-    if (tok != keyword) cur.fail(kSyntax, fmt::format("expected '{}' but found '{}'", keyword, tok));
+    if (tok != keyword)
+      cur.fail(kSyntax, fmt::format("expected '{}' but found '{}'", keyword, tok));
   };
   expect_line("solid");
   bool ended = false;
@@ -70,13 +74,15 @@ ReadResult read_ascii(std::string_view text, const std::string& file, const Read
       ended = true;
       break;
     }
-    if (tok != "facet") cur.fail(kSyntax, fmt::format("expected 'facet' or 'endsolid' but found '{}'", tok));
+    if (tok != "facet")
+      cur.fail(kSyntax, fmt::format("expected 'facet' or 'endsolid' but found '{}'", tok));
     expect_line("outer");
     int64_t idx[3];
     for (int c = 0; c < 3; ++c) {
       expect_line("vertex");
       Vec3 p;
-      for (int k = 0; k < 3; ++k) p[k] = cur.parse_double(cur.expect_token("a coordinate"), "coordinate");
+      for (int k = 0; k < 3; ++k)
+        p[k] = cur.parse_double(cur.expect_token("a coordinate"), "coordinate");
       idx[c] = int64_t(result.mesh.num_vertices());
       add_vertex(result.mesh, p, where);
     }

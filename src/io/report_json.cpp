@@ -7,28 +7,39 @@ namespace isoquad {
 namespace {
 const char* severity_name(InputIssue::Severity s) {
   switch (s) {
-    case InputIssue::Severity::error: return "error";
-    case InputIssue::Severity::repaired: return "repaired";
-    case InputIssue::Severity::warning: return "warning";
+    case InputIssue::Severity::error:
+      return "error";
+    case InputIssue::Severity::repaired:
+      return "repaired";
+    case InputIssue::Severity::warning:
+      return "warning";
   }
   return "?";
 }
 }  // namespace
 
 void to_json(nlohmann::json& j, const ComponentReport& r) {
-  j = {{"vertices", r.vertices},       {"edges", r.edges},
-       {"faces", r.faces},             {"boundary_loops", r.boundary_loops},
-       {"euler_characteristic", r.euler}, {"genus", r.genus},
-       {"orientable", r.orientable},   {"closed", r.boundary_loops == 0},
-       {"kept", r.kept},               {"area", r.area},
-       {"feature_edges", r.feature_edges}, {"min_angle_deg", r.min_angle_deg},
+  j = {{"vertices", r.vertices},
+       {"edges", r.edges},
+       {"faces", r.faces},
+       {"boundary_loops", r.boundary_loops},
+       {"euler_characteristic", r.euler},
+       {"genus", r.genus},
+       {"orientable", r.orientable},
+       {"closed", r.boundary_loops == 0},
+       {"kept", r.kept},
+       {"area", r.area},
+       {"feature_edges", r.feature_edges},
+       {"min_angle_deg", r.min_angle_deg},
        {"zero_area_faces", r.zero_area_faces}};
 }
 
 void to_json(nlohmann::json& j, const InputReport& r) {
   nlohmann::json issues = nlohmann::json::array();
   for (const InputIssue& i : r.issues)
-    issues.push_back({{"severity", severity_name(i.severity)}, {"code", i.code}, {"message", i.message},
+    issues.push_back({{"severity", severity_name(i.severity)},
+                      {"code", i.code},
+                      {"message", i.message},
                       {"count", i.count}});
   j = {{"input_vertices", r.input_vertices},
        {"input_faces", r.input_faces},

@@ -1,11 +1,11 @@
 #include "io/write_mesh.hpp"
 
+#include <fmt/format.h>
+#include <unistd.h>
 #include <algorithm>
 #include <bit>
 #include <charconv>
-#include <fmt/format.h>
 #include <fstream>
-#include <unistd.h>
 
 #include "isoquad/error.hpp"
 
@@ -89,7 +89,8 @@ void write_ply(std::ostream& out, const PolyMesh& m, bool binary) {
   const char* count_type = max_face < 256 ? "uchar" : "uint";
   std::string buf = fmt::format(
       "ply\nformat {} 1.0\ncomment written by isoquad\nelement vertex {}\nproperty double x\n"
-      "property double y\nproperty double z\nelement face {}\nproperty list {} int vertex_indices\n",
+      "property double y\nproperty double z\nelement face {}\nproperty list {} int "
+      "vertex_indices\n",
       binary ? "binary_little_endian" : "ascii", m.num_vertices(), m.num_faces(), count_type);
   if (groups) buf += "property int patch\n";
   if (colors) buf += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
@@ -103,7 +104,8 @@ void write_ply(std::ostream& out, const PolyMesh& m, bool binary) {
         put_uint(buf, v);
       }
       if (groups) buf += fmt::format(" {}", m.face_group[f]);
-      if (colors) buf += fmt::format(" {} {} {}", m.face_color[f][0], m.face_color[f][1], m.face_color[f][2]);
+      if (colors)
+        buf += fmt::format(" {} {} {}", m.face_color[f][0], m.face_color[f][1], m.face_color[f][2]);
       buf += '\n';
     }
   } else {
@@ -113,8 +115,10 @@ void write_ply(std::ostream& out, const PolyMesh& m, bool binary) {
       put_le(buf, p.z);
     }
     for (std::size_t f = 0; f < m.num_faces(); ++f) {
-      if (max_face < 256) put_le(buf, uint8_t(m.face(f).size()));
-      else put_le(buf, uint32_t(m.face(f).size()));
+      if (max_face < 256)
+        put_le(buf, uint8_t(m.face(f).size()));
+      else
+        put_le(buf, uint32_t(m.face(f).size()));
       for (uint32_t v : m.face(f)) put_le(buf, int32_t(v));
       if (groups) put_le(buf, int32_t(m.face_group[f]));
       if (colors) buf.append(reinterpret_cast<const char*>(m.face_color[f].data()), 3);
@@ -125,31 +129,42 @@ void write_ply(std::ostream& out, const PolyMesh& m, bool binary) {
 
 MeshFormat output_format(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   if (ext == ".obj") return MeshFormat::obj;
   if (ext == ".off") return MeshFormat::off;
   if (ext == ".ply") return MeshFormat::ply;
   ErrorContext ctx;
   ctx.file = path.string();
-  throw Error(ErrorKind::invalid_input, "E002",
-              "cannot write this format (use .obj, .off or .ply)", ctx);
+  throw Error(ErrorKind::invalid_input, "E002", "cannot write this format (use .obj, .off or .ply)",
+              ctx);
 }
 
 }  // namespace
 
-void write_mesh(std::ostream& out, const PolyMesh& mesh, MeshFormat format, const WriteOptions& options) {
+void write_mesh(std::ostream& out, const PolyMesh& mesh, MeshFormat format,
+                const WriteOptions& options) {
   switch (format) {
-    case MeshFormat::obj: write_obj(out, mesh); break;
-    case MeshFormat::off: write_off(out, mesh); break;
-    case MeshFormat::ply: write_ply(out, mesh, options.ply_binary); break;
-    case MeshFormat::stl: throw Error(ErrorKind::invalid_input, "E002", "STL output is not supported");
+    case MeshFormat::obj:
+      write_obj(out, mesh);
+      break;
+    case MeshFormat::off:
+      write_off(out, mesh);
+      break;
+    case MeshFormat::ply:
+      write_ply(out, mesh, options.ply_binary);
+      break;
+    case MeshFormat::stl:
+      throw Error(ErrorKind::invalid_input, "E002", "STL output is not supported");
   }
 }
 
-void write_mesh(const std::filesystem::path& path, const PolyMesh& mesh, const WriteOptions& options) {
+void write_mesh(const std::filesystem::path& path, const PolyMesh& mesh,
+                const WriteOptions& options) {
   const MeshFormat format = output_format(path);
-  write_file_atomically(path, [&](std::ostream& out) { write_mesh(out, mesh, format, options); },
-                        format == MeshFormat::ply && options.ply_binary);
+  write_file_atomically(
+      path, [&](std::ostream& out) { write_mesh(out, mesh, format, options); },
+      format == MeshFormat::ply && options.ply_binary);
 }
 
 void write_file_atomically(const std::filesystem::path& path,

@@ -20,8 +20,10 @@ struct WriteOptions {
 // (`g patch_N`) and as the PLY face property `patch`.
 // \throw Error(invalid_input, E002) for an unknown extension, Error(invalid_input, E001) when
 // the file cannot be written.
-void write_mesh(const std::filesystem::path& path, const PolyMesh& mesh, const WriteOptions& options = {});
-void write_mesh(std::ostream& out, const PolyMesh& mesh, MeshFormat format, const WriteOptions& options = {});
+void write_mesh(const std::filesystem::path& path, const PolyMesh& mesh,
+                const WriteOptions& options = {});
+void write_mesh(std::ostream& out, const PolyMesh& mesh, MeshFormat format,
+                const WriteOptions& options = {});
 
 // Writes through `fill` into a temporary file, then renames it to `path`. The one atomic-write
 // helper (reports and pictures use it too).

@@ -1,7 +1,7 @@
 #include "layout/charts.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 #include <set>
 
 #include "isoquad/error.hpp"
@@ -11,12 +11,15 @@ namespace isoquad {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& what) { throw Error(ErrorKind::internal, "E700", "layout invariant: " + what); }
+[[noreturn]] void fail(const std::string& what) {
+  throw Error(ErrorKind::internal, "E700", "layout invariant: " + what);
+}
 
 constexpr Lattice kDirection[4] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
 
 // Where meta-edge e starts and ends in patch p's chart, in the edge's own direction mv0 -> mv1.
-std::pair<Lattice, Lattice> edge_in_chart(const MetaMesh& meta, const Chart& chart, uint32_t p, uint32_t e) {
+std::pair<Lattice, Lattice> edge_in_chart(const MetaMesh& meta, const Chart& chart, uint32_t p,
+                                          uint32_t e) {
   const MetaFace& f = meta.faces[p];
   for (uint32_t i = 0; i < f.cycle.size(); ++i) {
     if (f.cycle[i].edge != e) continue;
@@ -34,7 +37,8 @@ int64_t Layout::quads() const {
   return q;
 }
 
-void build_charts(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>& sides, Layout& layout) {
+void build_charts(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>& sides,
+                  Layout& layout) {
   const uint32_t n = uint32_t(meta.faces.size());
   layout.charts.assign(n, {});
   for (uint32_t p = 0; p < n; ++p) {
@@ -53,11 +57,13 @@ void build_charts(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>&
       c.item_position[i] = pos;
       if (s == 0 || c.item_side[i] != c.item_side[(i + m - 1) % m]) c.corners[c.item_side[i]] = i;
       const int64_t x = layout.length[f.cycle[i].edge];
-      pos = {pos[0] + x * kDirection[c.item_side[i]][0], pos[1] + x * kDirection[c.item_side[i]][1]};
+      pos = {pos[0] + x * kDirection[c.item_side[i]][0],
+             pos[1] + x * kDirection[c.item_side[i]][1]};
       if (c.item_side[i] == 0) c.width += x;
       if (c.item_side[i] == 1) c.height += x;
     }
-    if (pos != Lattice{0, 0}) fail(fmt::format("the walk around patch {} does not close ({}, {})", p, pos[0], pos[1]));
+    if (pos != Lattice{0, 0})
+      fail(fmt::format("the walk around patch {} does not close ({}, {})", p, pos[0], pos[1]));
   }
   layout.transition.assign(meta.edges.size(), {});
   for (uint32_t e = 0; e < meta.edges.size(); ++e) {
@@ -66,7 +72,8 @@ void build_charts(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>&
     const auto [ap, bp] = edge_in_chart(meta, layout.charts[me.left], me.left, e);
     const auto [aq, bq] = edge_in_chart(meta, layout.charts[me.right], me.right, e);
     const int64_t x = layout.length[e];
-    const Lattice dp{(bp[0] - ap[0]) / x, (bp[1] - ap[1]) / x}, dq{(bq[0] - aq[0]) / x, (bq[1] - aq[1]) / x};
+    const Lattice dp{(bp[0] - ap[0]) / x, (bp[1] - ap[1]) / x},
+        dq{(bq[0] - aq[0]) / x, (bq[1] - aq[1]) / x};
     int k = 0;
     while (k < 4 && rotate(dp, k) != dq) ++k;
     if (k == 4) fail(fmt::format("meta-edge {}: no quarter turn maps its direction", e));
@@ -75,7 +82,8 @@ void build_charts(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>&
   }
 }
 
-void check_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout) {
+void check_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
+                  const Layout& layout) {
   for (uint32_t e = 0; e < meta.edges.size(); ++e) {
     const MetaEdge& me = meta.edges[e];
     if (layout.length[e] < 1) fail(fmt::format("meta-edge {} has length {}", e, layout.length[e]));
@@ -83,12 +91,14 @@ void check_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const M
     const auto [ap, bp] = edge_in_chart(meta, layout.charts[me.left], me.left, e);
     const auto [aq, bq] = edge_in_chart(meta, layout.charts[me.right], me.right, e);
     const Transition& t = layout.transition[e];
-    if (t.apply(ap) != aq || t.apply(bp) != bq) fail(fmt::format("transition of meta-edge {} misses an endpoint", e));
+    if (t.apply(ap) != aq || t.apply(bp) != bq)
+      fail(fmt::format("transition of meta-edge {} misses an endpoint", e));
   }
   for (uint32_t p = 0; p < layout.charts.size(); ++p) {
     const Chart& c = layout.charts[p];
     std::set<Lattice> seen(c.item_position.begin(), c.item_position.end());
-    if (seen.size() != c.item_position.size()) fail(fmt::format("patch {} puts two meta-vertices on one lattice point", p));
+    if (seen.size() != c.item_position.size())
+      fail(fmt::format("patch {} puts two meta-vertices on one lattice point", p));
     if (c.width < 1 || c.height < 1) fail(fmt::format("patch {} is {} x {}", p, c.width, c.height));
   }
   // Holonomy: compose the transitions around each interior meta-vertex, through its wedges CCW.
@@ -111,7 +121,8 @@ void check_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const M
       if (first_patch == kInvalid) first_patch = prev_patch = p;
       if (p == prev_patch) return;
       const uint32_t e = halfedge_edge[h];
-      const Transition step = meta.edges[e].left == prev_patch ? layout.transition[e] : layout.transition[e].inverse();
+      const Transition step =
+          meta.edges[e].left == prev_patch ? layout.transition[e] : layout.transition[e].inverse();
       total = step * total;
       prev_patch = p;
     });
@@ -119,7 +130,8 @@ void check_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const M
     const uint32_t h0 = mesh.outgoing(mv.vertex);
     const uint32_t e0 = halfedge_edge[h0];
     if (prev_patch != first_patch) {
-      const Transition step = meta.edges[e0].left == prev_patch ? layout.transition[e0] : layout.transition[e0].inverse();
+      const Transition step = meta.edges[e0].left == prev_patch ? layout.transition[e0]
+                                                                : layout.transition[e0].inverse();
       total = step * total;
     }
     // Position of the meta-vertex in the first patch's chart.
@@ -127,9 +139,11 @@ void check_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const M
     Lattice pos{0, 0};
     for (uint32_t i = 0; i < f.cycle.size(); ++i)
       if (f.start_vertex(i, meta.edges) == v) pos = layout.charts[first_patch].item_position[i];
-    if (total.apply(pos) != pos) fail(fmt::format("holonomy around meta-vertex {} does not fix it", v));
+    if (total.apply(pos) != pos)
+      fail(fmt::format("holonomy around meta-vertex {} does not fix it", v));
     if ((total.k - (4 - a) % 4 + 8) % 4 != 0 && (total.k - (a - 4) % 4 + 8) % 4 != 0)
-      fail(fmt::format("holonomy around meta-vertex {} turns {} quarter turns for a_v = {}", v, total.k, a));
+      fail(fmt::format("holonomy around meta-vertex {} turns {} quarter turns for a_v = {}", v,
+                       total.k, a));
   }
   if (identity != 4 * meta.euler())
     fail(fmt::format("quarter-turn identity: {} != 4 chi = {}", identity, 4 * meta.euler()));

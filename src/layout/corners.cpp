@@ -1,8 +1,8 @@
 #include "layout/corners.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <numbers>
 
 #include "isoquad/error.hpp"
@@ -15,7 +15,8 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 }
 
-std::vector<int> quarter_turns(const MetaMesh& meta, const std::vector<std::array<uint32_t, 4>>& corners) {
+std::vector<int> quarter_turns(const MetaMesh& meta,
+                               const std::vector<std::array<uint32_t, 4>>& corners) {
   std::vector<int> a(meta.vertices.size(), 0);
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     const MetaFace& f = meta.faces[p];
@@ -35,8 +36,10 @@ int regular_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, uint32_t mv
   return std::clamp(int(std::lround(theta / (kPi / 2))), 1, 3);
 }
 
-std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh, const FaceData<uint32_t>& labels,
-                                                            const MetaMesh& meta, double beta, uint32_t keep) {
+std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
+                                                            const FaceData<uint32_t>& labels,
+                                                            const MetaMesh& meta, double beta,
+                                                            uint32_t keep) {
   std::vector<std::vector<CornerCandidate>> out(meta.faces.size());
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     const MetaFace& f = meta.faces[p];
@@ -94,8 +97,10 @@ namespace {
 
 // One ILP; `soft` replaces the hard valence bounds by penalized slacks.
 // `feasible`: 0 plain, 1 feasibility-aware with the full objective, 2 feasibility only.
-MilpResult corner_ilp(const TriMesh& mesh, const MetaMesh& meta, const std::vector<std::vector<CornerCandidate>>& cands,
-                      const LayoutOptions& o, int feasible, bool soft, std::vector<std::vector<uint32_t>>& column) {
+MilpResult corner_ilp(const TriMesh& mesh, const MetaMesh& meta,
+                      const std::vector<std::vector<CornerCandidate>>& cands,
+                      const LayoutOptions& o, int feasible, bool soft,
+                      std::vector<std::vector<uint32_t>>& column) {
   MilpProblem lp;
   column.assign(cands.size(), {});
   for (uint32_t p = 0; p < cands.size(); ++p) {
@@ -115,7 +120,8 @@ MilpResult corner_ilp(const TriMesh& mesh, const MetaMesh& meta, const std::vect
     for (uint32_t i = 0; i < f.cycle.size(); ++i) {
       const uint32_t v = f.start_vertex(i, meta.edges);
       for (uint32_t c = 0; c < cands[p].size(); ++c) {
-        const bool corner = std::find(cands[p][c].items.begin(), cands[p][c].items.end(), i) != cands[p][c].items.end();
+        const bool corner = std::find(cands[p][c].items.begin(), cands[p][c].items.end(), i) !=
+                            cands[p][c].items.end();
         a[v].columns.push_back(column[p][c]);
         a[v].values.push_back(corner ? 1 : 2);
       }
@@ -182,7 +188,8 @@ MilpResult corner_ilp(const TriMesh& mesh, const MetaMesh& meta, const std::vect
 
 }  // namespace
 
-CornerChoice choose_corners(const TriMesh& mesh, const MetaMesh& meta, const std::vector<std::vector<CornerCandidate>>& cands,
+CornerChoice choose_corners(const TriMesh& mesh, const MetaMesh& meta,
+                            const std::vector<std::vector<CornerCandidate>>& cands,
                             const LayoutOptions& o, bool require_feasible) {
   CornerChoice r;
   const uint32_t n = uint32_t(cands.size());
@@ -211,8 +218,9 @@ CornerChoice choose_corners(const TriMesh& mesh, const MetaMesh& meta, const std
     }
     if (!res.found())
       throw Error(ErrorKind::layout, "E401",
-                  require_feasible ? "no choice among the corner candidates admits positive meta-edge lengths"
-                                   : "no corner assignment found");
+                  require_feasible
+                      ? "no choice among the corner candidates admits positive meta-edge lengths"
+                      : "no corner assignment found");
     for (uint32_t p = 0; p < n; ++p)
       for (uint32_t c = 0; c < column[p].size(); ++c)
         if (res.x[column[p][c]] > 0.5) r.chosen[p] = c;

@@ -26,9 +26,10 @@ struct CornerChoice {
 };
 
 // Per patch, the best `keep` candidates (all of them for keep == 0), best first.
-std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh, const FaceData<uint32_t>& labels,
-                                                            const MetaMesh& meta, double angle_weight,
-                                                            uint32_t keep);
+std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
+                                                            const FaceData<uint32_t>& labels,
+                                                            const MetaMesh& meta,
+                                                            double angle_weight, uint32_t keep);
 
 // Picks one candidate per patch. With `require_feasible`, the ILP also carries continuous
 // meta-edge lengths in [1, 100] and, for the chosen candidate of each patch only (big-M), its
@@ -36,11 +37,12 @@ std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
 // corner re-assignment, done exactly instead of by trial and no-good cuts).
 // \throw Error(layout, E401) when no choice exists.
 CornerChoice choose_corners(const TriMesh& mesh, const MetaMesh& meta,
-                            const std::vector<std::vector<CornerCandidate>>& candidates, const LayoutOptions& options,
-                            bool require_feasible = false);
+                            const std::vector<std::vector<CornerCandidate>>& candidates,
+                            const LayoutOptions& options, bool require_feasible = false);
 
 // Quarter turns per meta-vertex for given corners (1 where a patch has a corner, 2 elsewhere).
-std::vector<int> quarter_turns(const MetaMesh& meta, const std::vector<std::array<uint32_t, 4>>& corners);
+std::vector<int> quarter_turns(const MetaMesh& meta,
+                               const std::vector<std::array<uint32_t, 4>>& corners);
 
 // The regular value of a_v: 4 inside, the mesh angle in quarter turns (1..3) on the boundary.
 int regular_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, uint32_t mv);

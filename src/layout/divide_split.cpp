@@ -18,12 +18,14 @@ std::vector<uint32_t> dividing_edges(const TriMesh& m, const FaceData<uint32_t>&
     if (t == kInvalid) continue;
     const uint32_t p = labels[TriMesh::face_of(h)];
     if (labels[TriMesh::face_of(t)] != p) continue;  // a seam, not interior
-    if (on_patch_boundary(m, labels, m.from(h), p) && on_patch_boundary(m, labels, m.to(h), p)) out.push_back(e);
+    if (on_patch_boundary(m, labels, m.from(h), p) && on_patch_boundary(m, labels, m.to(h), p))
+      out.push_back(e);
   }
   return out;
 }
 
-uint32_t split_dividing_edges(RefinedMesh& refined, FaceData<uint32_t>& labels, EdgeData<char>& feature) {
+uint32_t split_dividing_edges(RefinedMesh& refined, FaceData<uint32_t>& labels,
+                              EdgeData<char>& feature) {
   uint32_t total = 0;
   for (int round = 0; round < 4; ++round) {
     const std::vector<uint32_t> edges = dividing_edges(refined.mesh, labels);

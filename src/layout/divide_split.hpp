@@ -14,6 +14,7 @@ namespace isoquad {
 std::vector<uint32_t> dividing_edges(const TriMesh& mesh, const FaceData<uint32_t>& labels);
 
 // Splits until none is left; labels and features follow. Returns the number of edges split.
-uint32_t split_dividing_edges(RefinedMesh& refined, FaceData<uint32_t>& labels, EdgeData<char>& feature);
+uint32_t split_dividing_edges(RefinedMesh& refined, FaceData<uint32_t>& labels,
+                              EdgeData<char>& feature);
 
 }  // namespace isoquad

@@ -1,9 +1,9 @@
 #include "layout/flow.hpp"
 
-#include <chrono>
-#include <cmath>
 #include <lemon/network_simplex.h>
 #include <lemon/smart_graph.h>
+#include <chrono>
+#include <cmath>
 
 namespace isoquad {
 
@@ -54,7 +54,8 @@ std::optional<std::vector<int>> network_signs(uint32_t n, const std::vector<Side
   return sigma;
 }
 
-std::optional<Lengths> solve_lengths_flow(const std::vector<double>& c, const std::vector<SideRow>& rows) {
+std::optional<Lengths> solve_lengths_flow(const std::vector<double>& c,
+                                          const std::vector<SideRow>& rows) {
   const auto t0 = std::chrono::steady_clock::now();
   const uint32_t n = uint32_t(c.size());
   const auto sigma = network_signs(n, rows);

@@ -15,6 +15,7 @@ namespace isoquad {
 std::optional<std::vector<int>> network_signs(uint32_t num_edges, const std::vector<SideRow>& rows);
 
 // The same optimum as solve_lengths (up to ties), or nothing if the system is not a network.
-std::optional<Lengths> solve_lengths_flow(const std::vector<double>& target, const std::vector<SideRow>& rows);
+std::optional<Lengths> solve_lengths_flow(const std::vector<double>& target,
+                                          const std::vector<SideRow>& rows);
 
 }  // namespace isoquad

@@ -1,8 +1,8 @@
 #include "layout/layout.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <optional>
 #include <set>
 
@@ -27,9 +27,11 @@ struct Feasible {
 // Corners whose side equations admit positive lengths: the plain choice if it is feasible, else
 // the feasibility-aware ILP over the best candidates, then over many more. Empty if none is
 // found; `zero` then holds the forced-zero meta-edges of the plain choice.
-std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
-                                         const LayoutOptions& o, LayoutReport& report, std::vector<uint32_t>& zero) {
-  for (const uint32_t keep : {o.candidates_per_patch, o.candidates_per_patch, 4 * o.candidates_per_patch}) {
+std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                                         const MetaMesh& meta, const LayoutOptions& o,
+                                         LayoutReport& report, std::vector<uint32_t>& zero) {
+  for (const uint32_t keep :
+       {o.candidates_per_patch, o.candidates_per_patch, 4 * o.candidates_per_patch}) {
     const bool exact = report.corner_rounds > 0;
     const auto cands = corner_candidates(mesh, labels, meta, o.angle_weight, keep);
     Feasible f;
@@ -47,12 +49,15 @@ std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uin
     const Feasibility test = check_feasibility(uint32_t(meta.edges.size()), f.rows);
     report.corner_seconds += test.seconds;
     if (test.feasible) {
-      if (exact) report.repairs.push_back(fmt::format("corners re-chosen by the feasibility-aware ILP ({} candidates per patch)", keep));
+      if (exact)
+        report.repairs.push_back(fmt::format(
+            "corners re-chosen by the feasibility-aware ILP ({} candidates per patch)", keep));
       return f;
     }
     if (!exact) {
       zero = test.forced_zero;
-      report.repairs.push_back(fmt::format("the best corners force {} meta-edges to length 0", zero.size()));
+      report.repairs.push_back(
+          fmt::format("the best corners force {} meta-edges to length 0", zero.size()));
     }
   }
   return std::nullopt;
@@ -60,8 +65,9 @@ std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uin
 
 // DESIGN.md §5.4 step 2: a meta-vertex at the middle of each forced-zero meta-edge (that has a
 // vertex inside) gives the patches an even side count to balance. Returns false if none fits.
-bool insert_on_zero_edges(const TriMesh& mesh, const FaceData<uint32_t>& labels, const EdgeData<char>& feature,
-                          MetaMesh& meta, const std::vector<uint32_t>& zero, LayoutReport& report) {
+bool insert_on_zero_edges(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                          const EdgeData<char>& feature, MetaMesh& meta,
+                          const std::vector<uint32_t>& zero, LayoutReport& report) {
   MetaMeshOptions again;
   again.forced = meta.inserted_vertices;
   uint32_t added = 0;
@@ -76,14 +82,16 @@ bool insert_on_zero_edges(const TriMesh& mesh, const FaceData<uint32_t>& labels,
   meta = build_meta_mesh(mesh, labels, uint32_t(meta.faces.size()), feature, again);
   meta.inserted = before + added;
   measure_geodesic_lengths(mesh, labels, meta);
-  report.repairs.push_back(fmt::format("inserted {} meta-vertices on forced-zero meta-edges", added));
+  report.repairs.push_back(
+      fmt::format("inserted {} meta-vertices on forced-zero meta-edges", added));
   return true;
 }
 
 }  // namespace
 
-Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const EdgeData<char>& feature, MetaMesh& meta,
-                    const LayoutOptions& o, LayoutReport& report) {
+Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                    const EdgeData<char>& feature, MetaMesh& meta, const LayoutOptions& o,
+                    LayoutReport& report) {
   std::optional<Feasible> f;
   for (int insertion = 0; insertion < 4 && !f; ++insertion) {
     std::vector<uint32_t> zero;
@@ -112,7 +120,8 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const
     }
     if (round == 0 && 4 * tiny > c.size())
       throw Error(ErrorKind::layout, "E501",
-                  fmt::format("target edge length too large: {} of {} meta-edges are shorter than half of it; use a "
+                  fmt::format("target edge length too large: {} of {} meta-edges are shorter than "
+                              "half of it; use a "
                               "smaller --edge-length, more --quads or fewer --patches",
                               tiny, c.size()));
     std::optional<Lengths> flow;
@@ -128,12 +137,14 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const
     if (!by_count || miss <= 0.03) break;
     (q > wanted ? h_small : h_large) = h;
     // Area scales with 1/h^2; once both sides are known, bisect (geometrically) inside them.
-    h = h_small > 0 && h_large < INFINITY ? std::sqrt(h_small * h_large) : h * std::sqrt(q / wanted);
+    h = h_small > 0 && h_large < INFINITY ? std::sqrt(h_small * h_large)
+                                          : h * std::sqrt(q / wanted);
   }
   layout.length = best.x;
   layout.objective = best.objective;
   layout.edge_length = best_h;
-  for (uint32_t e = 0; e < meta.edges.size(); ++e) layout.target[e] = meta.edges[e].geodesic / best_h;
+  for (uint32_t e = 0; e < meta.edges.size(); ++e)
+    layout.target[e] = meta.edges[e].geodesic / best_h;
   report.length_solver = best.solver;
   report.length_optimal = best.optimal;
   build_charts(meta, f->sides, layout);

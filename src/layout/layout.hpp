@@ -21,13 +21,13 @@ struct Chart {
 };
 
 struct Layout {
-  std::vector<Chart> charts;            // one per patch
-  std::vector<int> quarter_turns;       // a_v per meta-vertex: number of quads at it (x 90 deg)
-  std::vector<double> target;           // c_e per meta-edge (geodesic length / h)
-  std::vector<int64_t> length;          // x_e per meta-edge
-  std::vector<Transition> transition;   // per meta-edge, left chart -> right chart
-  double edge_length = 0;               // h used (mesh units)
-  double objective = 0;                 // sum w_e |x_e - c_e|
+  std::vector<Chart> charts;           // one per patch
+  std::vector<int> quarter_turns;      // a_v per meta-vertex: number of quads at it (x 90 deg)
+  std::vector<double> target;          // c_e per meta-edge (geodesic length / h)
+  std::vector<int64_t> length;         // x_e per meta-edge
+  std::vector<Transition> transition;  // per meta-edge, left chart -> right chart
+  double edge_length = 0;              // h used (mesh units)
+  double objective = 0;                // sum w_e |x_e - c_e|
   int64_t quads() const;
 };
 
@@ -35,14 +35,14 @@ enum class CornerMode { global, local };
 enum class LengthSolver { cbc, flow };  // flow: LEMON when the system is a network, else CBC
 
 struct LayoutOptions {
-  double edge_length = 0;          // target h (mesh units); 0: from `quads`
-  double quads = 0;                // target quad count; the size is tuned to land within 10%
+  double edge_length = 0;  // target h (mesh units); 0: from `quads`
+  double quads = 0;        // target quad count; the size is tuned to land within 10%
   CornerMode corners = CornerMode::global;
   LengthSolver length_solver = LengthSolver::cbc;
-  double angle_weight = 0.5;       // beta in the corner cost (0: paper's length-only cost)
-  double valence_weight = 0.5;     // mu: penalty per quarter turn of singularity
+  double angle_weight = 0.5;    // beta in the corner cost (0: paper's length-only cost)
+  double valence_weight = 0.5;  // mu: penalty per quarter turn of singularity
   uint32_t candidates_per_patch = 8;
-  double time_limit = 10;          // seconds per ILP
+  double time_limit = 10;  // seconds per ILP
 };
 
 struct LayoutReport {
@@ -50,7 +50,7 @@ struct LayoutReport {
   uint32_t corner_rounds = 0;        // corner ILPs solved (no-good cuts add rounds)
   uint32_t size_rounds = 0;          // length ILPs solved while tuning the size
   double corner_seconds = 0, length_seconds = 0;
-  std::string length_solver;         // "cbc" or "flow"
+  std::string length_solver;  // "cbc" or "flow"
   bool length_optimal = false;
 };
 
@@ -59,7 +59,8 @@ struct LayoutReport {
 // lengths (tuning h to land near options.quads), and builds the charts and transitions.
 // \throw Error(layout, E501) when the target size is far too coarse for the patches,
 //        Error(layout, E402) when no repair makes the layout feasible.
-Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels, const EdgeData<char>& feature,
-                    MetaMesh& meta, const LayoutOptions& options, LayoutReport& report);
+Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                    const EdgeData<char>& feature, MetaMesh& meta, const LayoutOptions& options,
+                    LayoutReport& report);
 
 }  // namespace isoquad

@@ -1,8 +1,8 @@
 #include "layout/meta_mesh.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <numbers>
 
 #include "isoquad/error.hpp"
@@ -48,16 +48,19 @@ std::vector<char> boundary_corners(const TriMesh& m, const MetaMeshOptions& o) {
 }
 
 std::vector<char> meta_vertex_flags(const TriMesh& m, const FaceData<uint32_t>& labels,
-                                    const std::vector<char>& corners, const std::vector<char>& inserted) {
+                                    const std::vector<char>& corners,
+                                    const std::vector<char>& inserted) {
   std::vector<char> meta(m.num_vertices(), 0);
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {
-    meta[v] = wedge_count(m, labels, v) >= (m.is_boundary_vertex(v) ? 2u : 3u) || corners[v] || inserted[v];
+    meta[v] = wedge_count(m, labels, v) >= (m.is_boundary_vertex(v) ? 2u : 3u) || corners[v] ||
+              inserted[v];
   }
   return meta;
 }
 
 // One boundary cycle per patch (each is a disk), as halfedges with the patch on the left.
-std::vector<std::vector<uint32_t>> patch_cycles(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t n) {
+std::vector<std::vector<uint32_t>> patch_cycles(const TriMesh& m, const FaceData<uint32_t>& labels,
+                                                uint32_t n) {
   std::vector<std::vector<uint32_t>> cycles(n);
   std::vector<char> visited(m.num_halfedges(), 0);
   for (uint32_t h0 = 0; h0 < m.num_halfedges(); ++h0) {
@@ -65,7 +68,8 @@ std::vector<std::vector<uint32_t>> patch_cycles(const TriMesh& m, const FaceData
     auto& c = cycles[labels[TriMesh::face_of(h0)]];
     if (!c.empty())
       throw Error(ErrorKind::internal, "E700",
-                  fmt::format("patch {} has two boundary loops (not a disk)", labels[TriMesh::face_of(h0)]));
+                  fmt::format("patch {} has two boundary loops (not a disk)",
+                              labels[TriMesh::face_of(h0)]));
     for (uint32_t h = h0; !visited[h]; h = next_patch_boundary_halfedge(m, labels, h)) {
       visited[h] = 1;
       c.push_back(h);
@@ -74,12 +78,14 @@ std::vector<std::vector<uint32_t>> patch_cycles(const TriMesh& m, const FaceData
   return cycles;
 }
 
-double edge_length(const TriMesh& m, uint32_t h) { return norm(m.position(m.to(h)) - m.position(m.from(h))); }
+double edge_length(const TriMesh& m, uint32_t h) {
+  return norm(m.position(m.to(h)) - m.position(m.from(h)));
+}
 
 // Picks meta-vertices for a patch whose boundary has none: the 4 vertices that turn most (the
 // corners of a plate), at least a perimeter/8 apart; arc-length quarters where nothing turns.
-void insert_four(const TriMesh& m, const FaceData<uint32_t>& labels, const std::vector<uint32_t>& cycle,
-                 std::vector<char>& inserted, uint32_t count) {
+void insert_four(const TriMesh& m, const FaceData<uint32_t>& labels,
+                 const std::vector<uint32_t>& cycle, std::vector<char>& inserted, uint32_t count) {
   const uint32_t p = labels[TriMesh::face_of(cycle[0])];
   std::vector<double> s(cycle.size() + 1, 0.0);
   for (std::size_t i = 0; i < cycle.size(); ++i) s[i + 1] = s[i] + edge_length(m, cycle[i]);
@@ -91,12 +97,15 @@ void insert_four(const TriMesh& m, const FaceData<uint32_t>& labels, const std::
   std::vector<std::size_t> order(cycle.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::vector<double> turn(cycle.size());
-  for (std::size_t i = 0; i < cycle.size(); ++i) turn[i] = std::fabs(kPi - patch_angle(m, labels, m.from(cycle[i]), p));
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return turn[a] > turn[b]; });
+  for (std::size_t i = 0; i < cycle.size(); ++i)
+    turn[i] = std::fabs(kPi - patch_angle(m, labels, m.from(cycle[i]), p));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return turn[a] > turn[b]; });
   std::vector<std::size_t> chosen;
   for (std::size_t i : order) {
     if (chosen.size() == count || turn[i] < kPi / 8) break;
-    if (std::all_of(chosen.begin(), chosen.end(), [&](std::size_t j) { return gap(i, j) >= perimeter / 8; }))
+    if (std::all_of(chosen.begin(), chosen.end(),
+                    [&](std::size_t j) { return gap(i, j) >= perimeter / 8; }))
       chosen.push_back(i);
   }
   // Fill up at the arc-length positions farthest from what is chosen.
@@ -117,16 +126,19 @@ void insert_four(const TriMesh& m, const FaceData<uint32_t>& labels, const std::
 // shared with a patch that has 4 meta-vertices or more (or with the mesh boundary) is preferred:
 // that patch can take the new point as a 180-degree side point, whereas between two 4-sided
 // patches it would be a corner on both sides, a valence-2 vertex.
-void insert_on_items(const TriMesh& m, const FaceData<uint32_t>& labels, const std::vector<uint32_t>& cycle,
-                     const std::vector<char>& meta, const std::vector<uint32_t>& meta_count, std::vector<char>& inserted,
+void insert_on_items(const TriMesh& m, const FaceData<uint32_t>& labels,
+                     const std::vector<uint32_t>& cycle, const std::vector<char>& meta,
+                     const std::vector<uint32_t>& meta_count, std::vector<char>& inserted,
                      uint32_t count) {
   std::vector<char> is_meta(cycle.size());
-  for (std::size_t i = 0; i < cycle.size(); ++i) is_meta[i] = meta[m.from(cycle[i])] || inserted[m.from(cycle[i])];
+  for (std::size_t i = 0; i < cycle.size(); ++i)
+    is_meta[i] = meta[m.from(cycle[i])] || inserted[m.from(cycle[i])];
   for (uint32_t k = 0; k < count; ++k) {
     // The longest stretch that has a vertex inside.
     double best_len = -1;
     std::size_t best_start = 0, best_mid = 0;
-    const std::size_t first = std::size_t(std::find(is_meta.begin(), is_meta.end(), 1) - is_meta.begin());
+    const std::size_t first =
+        std::size_t(std::find(is_meta.begin(), is_meta.end(), 1) - is_meta.begin());
     for (std::size_t a = first, steps = 0; steps < cycle.size();) {
       std::size_t b = (a + 1) % cycle.size();
       double len = edge_length(m, cycle[a]);
@@ -139,7 +151,8 @@ void insert_on_items(const TriMesh& m, const FaceData<uint32_t>& labels, const s
         best_len = score, best_start = a;
         double acc = 0;
         std::size_t i = a;
-        while (acc + edge_length(m, cycle[i]) < len / 2) acc += edge_length(m, cycle[i]), i = (i + 1) % cycle.size();
+        while (acc + edge_length(m, cycle[i]) < len / 2)
+          acc += edge_length(m, cycle[i]), i = (i + 1) % cycle.size();
         i = (i + 1) % cycle.size();  // vertex after the midpoint edge
         if (is_meta[i]) i = (i + cycle.size() - 1) % cycle.size();
         best_mid = i;
@@ -174,13 +187,17 @@ MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uin
       for (uint32_t h : cycles[p]) mp += meta[m.from(h)];
       if (mp >= o.min_corners) continue;
       const uint32_t before = uint32_t(std::count(inserted.begin(), inserted.end(), 1));
-      if (mp == 0) insert_four(m, labels, cycles[p], inserted, o.min_corners);
-      else insert_on_items(m, labels, cycles[p], meta, meta_count, inserted, o.min_corners - mp);
+      if (mp == 0)
+        insert_four(m, labels, cycles[p], inserted, o.min_corners);
+      else
+        insert_on_items(m, labels, cycles[p], meta, meta_count, inserted, o.min_corners - mp);
       const uint32_t added = uint32_t(std::count(inserted.begin(), inserted.end(), 1)) - before;
       if (added + mp < o.min_corners || round > 8)
-        throw Error(ErrorKind::layout, "E301",
-                    fmt::format("patch {} has {} meta-vertices and its boundary ({} edges) cannot take {} more",
-                                p, mp, cycles[p].size(), o.min_corners - mp));
+        throw Error(
+            ErrorKind::layout, "E301",
+            fmt::format(
+                "patch {} has {} meta-vertices and its boundary ({} edges) cannot take {} more", p,
+                mp, cycles[p].size(), o.min_corners - mp));
       inserted_count += added;
       changed = true;
       meta = meta_vertex_flags(m, labels, corners, inserted);
@@ -209,7 +226,8 @@ MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uin
   mm.faces.resize(n);
   for (uint32_t p = 0; p < n; ++p) {
     std::vector<uint32_t> c = cycles[p];
-    const auto first = std::find_if(c.begin(), c.end(), [&](uint32_t h) { return meta[m.from(h)] != 0; });
+    const auto first =
+        std::find_if(c.begin(), c.end(), [&](uint32_t h) { return meta[m.from(h)] != 0; });
     std::rotate(c.begin(), first, c.end());
     mm.faces[p].patch = p;
     for (std::size_t i = 0; i < c.size();) {
@@ -234,7 +252,8 @@ MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uin
         e.vertices.push_back(m.to(c[j - 1]));
         e.mv0 = mm.vertex_meta_vertex[e.vertices.front()];
         e.mv1 = mm.vertex_meta_vertex[e.vertices.back()];
-        for (std::size_t k = 1; k + 1 < e.vertices.size(); ++k) mm.vertex_meta_edge[e.vertices[k]] = id;
+        for (std::size_t k = 1; k + 1 < e.vertices.size(); ++k)
+          mm.vertex_meta_edge[e.vertices[k]] = id;
         mm.edges.push_back(std::move(e));
         mm.faces[p].cycle.push_back({id, true});
       }
@@ -245,11 +264,14 @@ MetaMesh build_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, uin
 }
 
 void check_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, const MetaMesh& mm) {
-  auto fail = [](const std::string& what) { throw Error(ErrorKind::internal, "E700", "meta-mesh invariant: " + what); };
+  auto fail = [](const std::string& what) {
+    throw Error(ErrorKind::internal, "E700", "meta-mesh invariant: " + what);
+  };
   std::vector<uint32_t> uses(mm.edges.size(), 0);
   for (uint32_t e = 0; e < mm.edges.size(); ++e) {
     const MetaEdge& me = mm.edges[e];
-    if (me.left == me.right) fail(fmt::format("meta-edge {} separates patch {} from itself", e, me.left));
+    if (me.left == me.right)
+      fail(fmt::format("meta-edge {} separates patch {} from itself", e, me.left));
     if (me.mv0 == kInvalid || me.mv1 == kInvalid || me.mv0 == me.mv1)
       fail(fmt::format("meta-edge {} does not join two distinct meta-vertices", e));
     std::vector<uint32_t> sorted = me.vertices;
@@ -258,29 +280,35 @@ void check_meta_mesh(const TriMesh& m, const FaceData<uint32_t>& labels, const M
       fail(fmt::format("meta-edge {} is not a simple path", e));
     for (std::size_t k = 0; k < me.halfedges.size(); ++k) {
       const uint32_t h = me.halfedges[k];
-      if (m.from(h) != me.vertices[k] || m.to(h) != me.vertices[k + 1] || labels[TriMesh::face_of(h)] != me.left)
+      if (m.from(h) != me.vertices[k] || m.to(h) != me.vertices[k + 1] ||
+          labels[TriMesh::face_of(h)] != me.left)
         fail(fmt::format("meta-edge {} halfedge {} does not follow its path", e, k));
       const uint32_t t = m.twin(h);
-      if ((t == kInvalid) != (me.right == kInvalid) || (t != kInvalid && labels[TriMesh::face_of(t)] != me.right))
+      if ((t == kInvalid) != (me.right == kInvalid) ||
+          (t != kInvalid && labels[TriMesh::face_of(t)] != me.right))
         fail(fmt::format("meta-edge {} changes its right patch along the way", e));
     }
   }
   for (const MetaFace& f : mm.faces) {
-    if (f.cycle.size() < 3) fail(fmt::format("patch {} has {} meta-edges", f.patch, f.cycle.size()));
+    if (f.cycle.size() < 3)
+      fail(fmt::format("patch {} has {} meta-edges", f.patch, f.cycle.size()));
     for (std::size_t i = 0; i < f.cycle.size(); ++i) {
       const BoundaryItem& it = f.cycle[i];
       const MetaEdge& e = mm.edges[it.edge];
       ++uses[it.edge];
-      if ((it.forward ? e.left : e.right) != f.patch) fail(fmt::format("patch {} lists a meta-edge it does not bound", f.patch));
+      if ((it.forward ? e.left : e.right) != f.patch)
+        fail(fmt::format("patch {} lists a meta-edge it does not bound", f.patch));
       const uint32_t end = it.forward ? e.mv1 : e.mv0;
       if (end != f.start_vertex((i + 1) % f.cycle.size(), mm.edges))
         fail(fmt::format("the cycle of patch {} is not closed at item {}", f.patch, i));
     }
   }
   for (uint32_t e = 0; e < mm.edges.size(); ++e)
-    if (uses[e] != (mm.edges[e].right == kInvalid ? 1u : 2u)) fail(fmt::format("meta-edge {} is used {} times", e, uses[e]));
+    if (uses[e] != (mm.edges[e].right == kInvalid ? 1u : 2u))
+      fail(fmt::format("meta-edge {} is used {} times", e, uses[e]));
   if (mm.euler() != m.euler_characteristic())
-    fail(fmt::format("euler characteristic {} differs from the mesh's {}", mm.euler(), m.euler_characteristic()));
+    fail(fmt::format("euler characteristic {} differs from the mesh's {}", mm.euler(),
+                     m.euler_characteristic()));
 }
 
 }  // namespace isoquad

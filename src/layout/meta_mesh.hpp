@@ -13,9 +13,9 @@
 namespace isoquad {
 
 struct MetaVertex {
-  uint32_t vertex = kInvalid;         // mesh vertex
-  bool on_boundary = false;           // on the mesh boundary
-  bool inserted = false;              // added to give a patch 4 corners (or on request)
+  uint32_t vertex = kInvalid;           // mesh vertex
+  bool on_boundary = false;             // on the mesh boundary
+  bool inserted = false;                // added to give a patch 4 corners (or on request)
   std::vector<uint32_t> wedge_patches;  // patches around it, CCW
 };
 
@@ -47,12 +47,14 @@ struct MetaFace {
 struct MetaMesh {
   std::vector<MetaVertex> vertices;
   std::vector<MetaEdge> edges;
-  std::vector<MetaFace> faces;  // face p is patch p
+  std::vector<MetaFace> faces;              // face p is patch p
   VertexData<uint32_t> vertex_meta_vertex;  // mesh vertex -> meta-vertex, or kInvalid
-  VertexData<uint32_t> vertex_meta_edge;    // seam vertex that is not a meta-vertex -> its meta-edge
-  uint32_t inserted = 0;                    // meta-vertices inserted to reach 4 per patch
+  VertexData<uint32_t> vertex_meta_edge;  // seam vertex that is not a meta-vertex -> its meta-edge
+  uint32_t inserted = 0;                  // meta-vertices inserted to reach 4 per patch
   std::vector<uint32_t> inserted_vertices;  // their mesh vertices (pass as `forced` to rebuild)
-  int64_t euler() const { return int64_t(vertices.size()) - int64_t(edges.size()) + int64_t(faces.size()); }
+  int64_t euler() const {
+    return int64_t(vertices.size()) - int64_t(edges.size()) + int64_t(faces.size());
+  }
 };
 
 struct MetaMeshOptions {
@@ -65,8 +67,9 @@ struct MetaMeshOptions {
 // \pre every patch is a disk and not pinched (make_disk_patches).
 // Inserts meta-vertices (at seam vertices) until every patch has options.min_corners.
 // \throw Error(layout, E301) when a patch has too few seam vertices to take them.
-MetaMesh build_meta_mesh(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t num_patches,
-                         const EdgeData<char>& feature, const MetaMeshOptions& options = {});
+MetaMesh build_meta_mesh(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                         uint32_t num_patches, const EdgeData<char>& feature,
+                         const MetaMeshOptions& options = {});
 
 // Checks the invariants (every meta-edge a simple path between two distinct patches, cycles
 // closed and consistent, chi equal to the mesh's); throws Error(internal) naming the first

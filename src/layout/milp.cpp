@@ -38,8 +38,10 @@ void load(OsiClpSolverInterface& solver, const MilpProblem& p) {
     row_hi.push_back(clamp_inf(r.hi));
   }
   std::vector<double> lo(p.col_lo.size()), hi(p.col_hi.size());
-  for (std::size_t i = 0; i < lo.size(); ++i) lo[i] = clamp_inf(p.col_lo[i]), hi[i] = clamp_inf(p.col_hi[i]);
-  solver.loadProblem(matrix, lo.data(), hi.data(), p.objective.data(), row_lo.data(), row_hi.data());
+  for (std::size_t i = 0; i < lo.size(); ++i)
+    lo[i] = clamp_inf(p.col_lo[i]), hi[i] = clamp_inf(p.col_hi[i]);
+  solver.loadProblem(matrix, lo.data(), hi.data(), p.objective.data(), row_lo.data(),
+                     row_hi.data());
   solver.messageHandler()->setLogLevel(0);
   solver.getModelPtr()->setLogLevel(0);
 }
@@ -50,7 +52,8 @@ double since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-MilpResult solve_milp(const MilpProblem& p, double time_limit, double relative_gap, int node_limit) {
+MilpResult solve_milp(const MilpProblem& p, double time_limit, double relative_gap,
+                      int node_limit) {
   const auto t0 = std::chrono::steady_clock::now();
   OsiClpSolverInterface solver;
   load(solver, p);
@@ -66,18 +69,22 @@ MilpResult solve_milp(const MilpProblem& p, double time_limit, double relative_g
   const std::string seconds = std::to_string(time_limit);
   const std::string gap = std::to_string(relative_gap);
   const std::string nodes = std::to_string(node_limit > 0 ? node_limit : 2147483647);
-  const char* argv[] = {"isoquad", "-log",      "0",         "-sec",   seconds.c_str(), "-threads", "0",
-                        "-ratioGap", gap.c_str(), "-maxNodes", nodes.c_str(), "-solve", "-quit"};
-  CbcMain1(int(std::size(argv)), argv, model, [](CbcModel*, int) { return 0; }, data);
+  const char* argv[] = {"isoquad",     "-log",   "0",         "-sec",      seconds.c_str(),
+                        "-threads",    "0",      "-ratioGap", gap.c_str(), "-maxNodes",
+                        nodes.c_str(), "-solve", "-quit"};
+  CbcMain1(
+      int(std::size(argv)), argv, model, [](CbcModel*, int) { return 0; }, data);
   MilpResult r;
   r.seconds = since(t0);
   const double* best = model.bestSolution();
   if (best) {
     r.x.assign(best, best + p.objective.size());
     r.objective = model.getObjValue();
-    r.status = model.isProvenOptimal() && relative_gap == 0 ? MilpResult::Status::optimal : MilpResult::Status::feasible;
+    r.status = model.isProvenOptimal() && relative_gap == 0 ? MilpResult::Status::optimal
+                                                            : MilpResult::Status::feasible;
   } else {
-    r.status = model.isProvenInfeasible() ? MilpResult::Status::infeasible : MilpResult::Status::failed;
+    r.status =
+        model.isProvenInfeasible() ? MilpResult::Status::infeasible : MilpResult::Status::failed;
   }
   return r;
 }
@@ -94,7 +101,8 @@ MilpResult solve_lp(const MilpProblem& p) {
     r.objective = solver.getObjValue();
     r.status = MilpResult::Status::optimal;
   } else {
-    r.status = solver.isProvenPrimalInfeasible() ? MilpResult::Status::infeasible : MilpResult::Status::failed;
+    r.status = solver.isProvenPrimalInfeasible() ? MilpResult::Status::infeasible
+                                                 : MilpResult::Status::failed;
   }
   return r;
 }

@@ -37,8 +37,8 @@ struct MilpResult {
 // Branch and bound with CBC; stops once within `relative_gap` of the bound (0: proven optimal)
 // or after `node_limit` nodes (0: none). Single thread, so deterministic unless `time_limit`
 // (a safety net, in seconds) is reached: callers that need a bounded effort use the node limit.
-MilpResult solve_milp(const MilpProblem& problem, double time_limit = 10.0, double relative_gap = 0.0,
-                      int node_limit = 0);
+MilpResult solve_milp(const MilpProblem& problem, double time_limit = 10.0,
+                      double relative_gap = 0.0, int node_limit = 0);
 // The LP relaxation with Clp (integrality ignored).
 MilpResult solve_lp(const MilpProblem& problem);
 

@@ -1,15 +1,16 @@
 #include "layout/quantize.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "isoquad/error.hpp"
 #include "layout/milp.hpp"
 
 namespace isoquad {
 
-std::vector<std::vector<uint8_t>> item_sides(const MetaMesh& meta, const std::vector<std::array<uint32_t, 4>>& corners) {
+std::vector<std::vector<uint8_t>> item_sides(const MetaMesh& meta,
+                                             const std::vector<std::array<uint32_t, 4>>& corners) {
   std::vector<std::vector<uint8_t>> sides(meta.faces.size());
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     const MetaFace& f = meta.faces[p];
@@ -20,13 +21,15 @@ std::vector<std::vector<uint8_t>> item_sides(const MetaMesh& meta, const std::ve
     sides[p].assign(f.cycle.size(), 0);
     for (uint32_t k = 0; k < 4; ++k) {
       const uint32_t from = c[(first + k) % 4], to = c[(first + k + 1) % 4];
-      for (uint32_t i = from; i != to; i = (i + 1) % uint32_t(f.cycle.size())) sides[p][i] = uint8_t(k);
+      for (uint32_t i = from; i != to; i = (i + 1) % uint32_t(f.cycle.size()))
+        sides[p][i] = uint8_t(k);
     }
   }
   return sides;
 }
 
-std::vector<SideRow> side_equations(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>& sides) {
+std::vector<SideRow> side_equations(const MetaMesh& meta,
+                                    const std::vector<std::vector<uint8_t>>& sides) {
   std::vector<SideRow> rows;
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     SideRow r[2];
@@ -77,10 +80,12 @@ Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
 }
 
 namespace {
-MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows, double time_limit, bool bounded) {
+MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows,
+                      double time_limit, bool bounded) {
   const uint32_t n = uint32_t(c.size());
   MilpProblem ilp;
-  for (uint32_t e = 0; e < n; ++e)  // x_e; the bound keeps the search small, and is dropped if it bites
+  for (uint32_t e = 0; e < n;
+       ++e)  // x_e; the bound keeps the search small, and is dropped if it bites
     ilp.add_column(0, 1, bounded ? std::max(4 * c[e], c[e] + 20) : MilpProblem::kInf, true);
   std::vector<uint32_t> t(n);
   for (uint32_t e = 0; e < n; ++e) {
@@ -98,7 +103,8 @@ MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& 
 }
 }  // namespace
 
-Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& rows, double time_limit) {
+Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& rows,
+                      double time_limit) {
   const uint32_t n = uint32_t(c.size());
   MilpResult res = length_ilp(c, rows, time_limit, true);
   if (!res.found()) res = length_ilp(c, rows, time_limit, false);

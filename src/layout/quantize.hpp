@@ -12,11 +12,13 @@ namespace isoquad {
 
 // Side (0..3) of every cycle item of every patch, corner 0 being the corner whose meta-vertex has
 // the smallest id (so that charts do not depend on where a cycle happens to start).
-std::vector<std::vector<uint8_t>> item_sides(const MetaMesh& meta, const std::vector<std::array<uint32_t, 4>>& corners);
+std::vector<std::vector<uint8_t>> item_sides(const MetaMesh& meta,
+                                             const std::vector<std::array<uint32_t, 4>>& corners);
 
 // A x = 0: per patch, side 0 minus side 2 and side 1 minus side 3, as (meta-edge, +-1) terms.
 using SideRow = std::vector<std::pair<uint32_t, int>>;
-std::vector<SideRow> side_equations(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>& sides);
+std::vector<SideRow> side_equations(const MetaMesh& meta,
+                                    const std::vector<std::vector<uint8_t>>& sides);
 
 // Exact feasibility (DESIGN.md §5.2): the homogeneous system has a solution with all x >= 1 iff
 // its LP has one with all x > 0. `forced_zero` lists the meta-edges that are 0 in every
@@ -37,6 +39,7 @@ struct Lengths {
 };
 // \pre the system is feasible. w_e = 1 / max(c_e, 1) (relative deviation).
 // \throw Error(solver, E502) if CBC finds no solution in time.
-Lengths solve_lengths(const std::vector<double>& target, const std::vector<SideRow>& rows, double time_limit);
+Lengths solve_lengths(const std::vector<double>& target, const std::vector<SideRow>& rows,
+                      double time_limit);
 
 }  // namespace isoquad

@@ -8,7 +8,8 @@
 
 namespace isoquad {
 
-double seam_length(const TriMesh& m, const FaceData<uint32_t>& labels, const EdgeData<char>& feature) {
+double seam_length(const TriMesh& m, const FaceData<uint32_t>& labels,
+                   const EdgeData<char>& feature) {
   double len = 0;
   for (uint32_t e = 0; e < m.num_edges(); ++e) {
     const uint32_t h = m.edge_halfedge(e);
@@ -35,7 +36,8 @@ uint32_t relabel_ears(const TriMesh& m, FaceData<uint32_t>& labels, const EdgeDa
         const uint32_t tab = m.twin(ab), tbc = m.twin(bc), tca = m.twin(ca);
         if (tab == kInvalid || tbc == kInvalid || tca == kInvalid) continue;
         const uint32_t q = labels[TriMesh::face_of(tab)];
-        if (q == p || labels[TriMesh::face_of(tbc)] != q || labels[TriMesh::face_of(tca)] != p) continue;
+        if (q == p || labels[TriMesh::face_of(tbc)] != q || labels[TriMesh::face_of(tca)] != p)
+          continue;
         if (feature[m.edge(ab)] || feature[m.edge(bc)]) continue;
         // b must see only P (this face) and Q: otherwise it is a junction.
         bool only_pq = true;
@@ -60,7 +62,8 @@ bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, const MetaEdge& e
   auto in_pq = [&](uint32_t f) { return labels[f] == p || labels[f] == q; };
   auto inner_edge = [&](uint32_t edge) {
     const uint32_t h = m.edge_halfedge(edge);
-    return m.twin(h) != kInvalid && in_pq(TriMesh::face_of(h)) && in_pq(TriMesh::face_of(m.twin(h)));
+    return m.twin(h) != kInvalid && in_pq(TriMesh::face_of(h)) &&
+           in_pq(TriMesh::face_of(m.twin(h)));
   };
   auto inner_vertex = [&](uint32_t v) {
     if (m.is_boundary_vertex(v)) return false;
@@ -70,7 +73,8 @@ bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, const MetaEdge& e
   };
   const uint32_t a = e.vertices.front(), b = e.vertices.back();
   const ShortestPaths sp = vertex_dijkstra(
-      m, {a}, [&](uint32_t v, uint32_t edge) { return inner_edge(edge) && (v == b || inner_vertex(v)); },
+      m, {a},
+      [&](uint32_t v, uint32_t edge) { return inner_edge(edge) && (v == b || inner_vertex(v)); },
       [&](uint32_t v) { return v == b; });
   const std::vector<uint32_t> path = sp.path_to(b);
   if (path.size() < 2 || sp.distance[b] >= e.length * (1 - 1e-9)) return false;
@@ -114,7 +118,8 @@ bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, const MetaEdge& e
   const uint32_t total = uint32_t(region.size());
   if (left_count == 0 || left_count == total) return false;  // the path does not separate P and Q
   const auto before_a = wedges_at(m, labels, a).size(), before_b = wedges_at(m, labels, b).size();
-  if (wedges_at(m, trial, a).size() != before_a || wedges_at(m, trial, b).size() != before_b) return false;
+  if (wedges_at(m, trial, a).size() != before_a || wedges_at(m, trial, b).size() != before_b)
+    return false;
   const auto topo = local_patch_topology(m, trial, region, {p, q});
   if (!topo[0].is_disk() || !topo[1].is_disk()) return false;
   labels = std::move(trial);
@@ -123,8 +128,8 @@ bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, const MetaEdge& e
 
 }  // namespace
 
-void straighten_seams(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n, const EdgeData<char>& feature,
-                      StraightenLog& log) {
+void straighten_seams(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n,
+                      const EdgeData<char>& feature, StraightenLog& log) {
   log.seam_length_before = seam_length(m, labels, feature);
   log.ears += relabel_ears(m, labels, feature);
   // Junctions only (one inserted point on seam loops without any), so that seams run between them.

@@ -15,8 +15,8 @@
 namespace isoquad {
 
 struct StraightenLog {
-  uint32_t ears = 0;      // faces relabelled by the ear rule
-  uint32_t geodesic = 0;  // seams replaced by shortest paths
+  uint32_t ears = 0;                                     // faces relabelled by the ear rule
+  uint32_t geodesic = 0;                                 // seams replaced by shortest paths
   double seam_length_before = 0, seam_length_after = 0;  // interior, non-feature seams
 };
 
@@ -25,6 +25,7 @@ void straighten_seams(const TriMesh& mesh, FaceData<uint32_t>& labels, uint32_t 
                       const EdgeData<char>& feature, StraightenLog& log);
 
 // Total length of mesh edges between two different patches that are not feature edges.
-double seam_length(const TriMesh& mesh, const FaceData<uint32_t>& labels, const EdgeData<char>& feature);
+double seam_length(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                   const EdgeData<char>& feature);
 
 }  // namespace isoquad

@@ -15,9 +15,12 @@ double edge_length_for_quads(const TriMesh& mesh, double quads) {
   return std::sqrt(surface_area(mesh) / std::max(quads, 1.0));
 }
 
-double default_quad_count(const TriMesh& mesh) { return std::clamp(mesh.num_faces() / 8.0, 1000.0, 20000.0); }
+double default_quad_count(const TriMesh& mesh) {
+  return std::clamp(mesh.num_faces() / 8.0, 1000.0, 20000.0);
+}
 
-double component_edge_length(const TriMesh& component, double share, const SizeRequest& r, double scale) {
+double component_edge_length(const TriMesh& component, double share, const SizeRequest& r,
+                             double scale) {
   if (r.edge_length > 0) return r.edge_length * scale;
   const double quads = r.quads > 0 ? r.quads * share : default_quad_count(component);
   return edge_length_for_quads(component, quads);

@@ -20,6 +20,7 @@ struct SizeRequest {
   double edge_length = 0;  // input units; 0: use quads
   double quads = 0;        // for the whole mesh; 0: the default for each component
 };
-double component_edge_length(const TriMesh& component, double component_share, const SizeRequest& request, double scale);
+double component_edge_length(const TriMesh& component, double component_share,
+                             const SizeRequest& request, double scale);
 
 }  // namespace isoquad

@@ -49,7 +49,8 @@ void report_non_manifold(const Soup& s, const std::vector<std::span<const EdgeHa
 }
 
 // Gives every fan of every vertex its own vertex: corners are merged across glued edges only.
-void split_fans(Soup& s, const std::vector<std::pair<uint32_t, uint32_t>>& glued, InputReport& report) {
+void split_fans(Soup& s, const std::vector<std::pair<uint32_t, uint32_t>>& glued,
+                InputReport& report) {
   UnionFind corners(3 * s.tris.size());  // over triangle corners 3t + i
   for (const auto& [h0, h1] : glued) {
     const Tri &t0 = s.tris[h0 / 3], &t1 = s.tris[h1 / 3];
@@ -71,7 +72,8 @@ void split_fans(Soup& s, const std::vector<std::pair<uint32_t, uint32_t>>& glued
       seen[old] = 1;
     }
   }
-  for (uint32_t c = 0; c < class_vertex.size(); ++c) s.tris[c / 3][c % 3] = class_vertex[corners.find(c)];
+  for (uint32_t c = 0; c < class_vertex.size(); ++c)
+    s.tris[c / 3][c % 3] = class_vertex[corners.find(c)];
   s.positions = std::move(positions);
   s.vertex_input = std::move(vertex_input);
 }
@@ -118,14 +120,14 @@ void make_manifold(Soup& s, const PrepOptions& options, InputReport& report) {
   }
   const uint32_t split = report.split_vertices - split_before;
   if (split > 0)
-    report.issues.push_back({InputIssue::Severity::repaired, "W102",
-                             fmt::format("split {} non-manifold vertices (one copy per fan)", split),
-                             split});
+    report.issues.push_back(
+        {InputIssue::Severity::repaired, "W102",
+         fmt::format("split {} non-manifold vertices (one copy per fan)", split), split});
   if (report.removed_faces > 0)
-    report.issues.push_back({InputIssue::Severity::repaired, "W103",
-                             fmt::format("removed {} faces to make every edge manifold",
-                                         report.removed_faces),
-                             report.removed_faces});
+    report.issues.push_back(
+        {InputIssue::Severity::repaired, "W103",
+         fmt::format("removed {} faces to make every edge manifold", report.removed_faces),
+         report.removed_faces});
 }
 
 }  // namespace isoquad::prep

@@ -52,7 +52,8 @@ std::vector<SoupComponent> orient_components(Soup& s, InputReport& report) {
       }
     }
     if (c.orientable) {
-      const bool closed = std::none_of(c.tris.begin(), c.tris.end(), [&](uint32_t t) { return has_boundary[t]; });
+      const bool closed =
+          std::none_of(c.tris.begin(), c.tris.end(), [&](uint32_t t) { return has_boundary[t]; });
       bool flip_all;
       if (closed) {  // outward: positive signed volume once the flips are applied
         double volume = 0;
@@ -63,7 +64,8 @@ std::vector<SoupComponent> orient_components(Soup& s, InputReport& report) {
         }
         flip_all = volume < 0;
       } else {  // keep the orientation most input faces already have
-        const auto flipped = std::count_if(c.tris.begin(), c.tris.end(), [&](uint32_t t) { return flip[t]; });
+        const auto flipped =
+            std::count_if(c.tris.begin(), c.tris.end(), [&](uint32_t t) { return flip[t]; });
         flip_all = 2 * std::size_t(flipped) > c.tris.size();
       }
       for (uint32_t t : c.tris) {

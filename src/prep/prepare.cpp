@@ -1,8 +1,8 @@
 #include "prep/prepare.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <numbers>
 
 #include "isoquad/error.hpp"
@@ -19,7 +19,8 @@ namespace {
 
 using Severity = InputIssue::Severity;
 
-void note(InputReport& r, Severity severity, const char* code, uint32_t count, const std::string& msg) {
+void note(InputReport& r, Severity severity, const char* code, uint32_t count,
+          const std::string& msg) {
   if (count > 0) r.issues.push_back({severity, code, msg, count});
 }
 
@@ -76,8 +77,8 @@ PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
   prep::make_manifold(s, options, report);
   auto comps = prep::orient_components(s, report);
   note(report, Severity::repaired, "W107", report.flipped_faces,
-       fmt::format("flipped {} faces to orient every component consistently{}", report.flipped_faces,
-                   " (closed components outward)"));
+       fmt::format("flipped {} faces to orient every component consistently{}",
+                   report.flipped_faces, " (closed components outward)"));
 
   // Decide what is kept, then normalize over the kept components together.
   Box3 kept_box;
@@ -93,7 +94,8 @@ PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
           "vertices {} and {}); quad layouts need an orientable surface",
           c, comps[c].conflict_a, comps[c].conflict_b);
       if (!options.diagnose)
-        reject(ErrorKind::unsupported_topology, "E102", msg, {comps[c].conflict_a, comps[c].conflict_b});
+        reject(ErrorKind::unsupported_topology, "E102", msg,
+               {comps[c].conflict_a, comps[c].conflict_b});
       report.issues.push_back({Severity::error, "E102", msg, 1});
     } else {
       r.genus = (2 - r.euler - r.boundary_loops) / 2;

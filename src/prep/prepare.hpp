@@ -54,21 +54,22 @@ struct ComponentReport {
 };
 
 struct InputReport {
-  uint32_t input_vertices = 0, input_faces = 0, input_polygons = 0;  // polygons: faces with > 3 sides
+  uint32_t input_vertices = 0, input_faces = 0,
+           input_polygons = 0;  // polygons: faces with > 3 sides
   uint32_t welded_vertices = 0, unused_vertices = 0;
   uint32_t degenerate_faces = 0;  // fewer than 3 distinct vertices (after welding), dropped
   uint32_t duplicate_faces = 0;   // same vertex set as an earlier face, dropped
   uint32_t non_manifold_edges = 0, split_vertices = 0, flipped_faces = 0;
-  uint32_t removed_faces = 0;     // faces removed by --repair to make edges manifold
+  uint32_t removed_faces = 0;  // faces removed by --repair to make edges manifold
   bool orientable = true;
-  Box3 bounding_box;              // input units
+  Box3 bounding_box;  // input units
   std::vector<ComponentReport> components;
   std::vector<InputIssue> issues;
   bool has_errors() const;
 };
 
 struct PreparedComponent {
-  TriMesh mesh;                      // normalized coordinates; outward for closed components
+  TriMesh mesh;                       // normalized coordinates; outward for closed components
   VertexData<uint32_t> input_vertex;  // the input vertex each vertex came from
   FaceData<uint32_t> input_face;      // the input face (polygon) each triangle came from
   EdgeData<char> feature;             // 1 where the dihedral angle exceeds the feature angle

@@ -9,10 +9,10 @@ namespace isoquad::prep {
 
 // Triangles over a working vertex set that remembers where everything came from.
 struct Soup {
-  std::vector<Vec3> positions;        // per working vertex
+  std::vector<Vec3> positions;         // per working vertex
   std::vector<uint32_t> vertex_input;  // working vertex -> input vertex
   std::vector<Tri> tris;
-  std::vector<uint32_t> tri_input;     // triangle -> input face
+  std::vector<uint32_t> tri_input;  // triangle -> input face
 };
 
 // Input vertex -> representative input vertex (itself if not welded). Only vertices on the

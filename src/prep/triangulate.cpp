@@ -11,7 +11,8 @@ namespace {
 // polygon is not simple (no ear can be found).
 void ear_clip(const std::vector<Vec3>& P, std::vector<uint32_t> poly, std::vector<Tri>& out) {
   Vec3 n;
-  for (std::size_t i = 0; i < poly.size(); ++i) n += cross(P[poly[i]], P[poly[(i + 1) % poly.size()]]);
+  for (std::size_t i = 0; i < poly.size(); ++i)
+    n += cross(P[poly[i]], P[poly[(i + 1) % poly.size()]]);
   const Vec3 axis = normalized(n);
   const Vec3 helper = std::fabs(axis.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
   const Vec3 ex = normalized(cross(helper, axis)), ey = cross(axis, ex);

@@ -1,7 +1,7 @@
 #include "seg/disk_patches.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 #include <map>
 
 #include "core/face_regions.hpp"
@@ -23,13 +23,16 @@ uint32_t compact_labels(FaceData<uint32_t>& labels) {
 namespace {
 
 bool same_patch(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t h) {
-  return m.twin(h) != kInvalid && labels[TriMesh::face_of(m.twin(h))] == labels[TriMesh::face_of(h)];
+  return m.twin(h) != kInvalid &&
+         labels[TriMesh::face_of(m.twin(h))] == labels[TriMesh::face_of(h)];
 }
 
 // Every connected piece of a label becomes its own label.
-uint32_t split_disconnected(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n, DiskRepairLog& log) {
+uint32_t split_disconnected(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n,
+                            DiskRepairLog& log) {
   std::vector<uint32_t> region;
-  const uint32_t count = face_regions(m, [&](uint32_t h) { return same_patch(m, labels, h); }, region);
+  const uint32_t count = face_regions(
+      m, [&](uint32_t h) { return same_patch(m, labels, h); }, region);
   log.disconnected_split += count - std::min(count, n);
   labels = FaceData<uint32_t>(std::move(region));
   return count;
@@ -56,7 +59,8 @@ uint32_t fix_pinches(const TriMesh& m, FaceData<uint32_t>& labels) {
       for (uint32_t f : w[smallest].faces)
         for (uint32_t k = 0; k < 3; ++k) {
           const uint32_t t = m.twin(3 * f + k);
-          if (t != kInvalid && labels[TriMesh::face_of(t)] != w[smallest].patch) ++shared[labels[TriMesh::face_of(t)]];
+          if (t != kInvalid && labels[TriMesh::face_of(t)] != w[smallest].patch)
+            ++shared[labels[TriMesh::face_of(t)]];
         }
       if (shared.empty()) continue;
       const auto best = std::max_element(shared.begin(), shared.end(), [](auto& a, auto& b) {
@@ -84,7 +88,8 @@ uint32_t merge_tiny(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n) {
       if (labels[f] != p) continue;
       for (uint32_t k = 0; k < 3; ++k) {
         const uint32_t t = m.twin(3 * f + k);
-        if (t != kInvalid && labels[TriMesh::face_of(t)] != p) ++shared[labels[TriMesh::face_of(t)]];
+        if (t != kInvalid && labels[TriMesh::face_of(t)] != p)
+          ++shared[labels[TriMesh::face_of(t)]];
       }
     }
     if (shared.empty()) continue;  // a whole tiny component: nothing to merge with
@@ -99,11 +104,13 @@ uint32_t merge_tiny(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n) {
 }
 
 // The boundary loops of patch p, as halfedge cycles (patch on the left).
-std::vector<std::vector<uint32_t>> loops_of(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t p) {
+std::vector<std::vector<uint32_t>> loops_of(const TriMesh& m, const FaceData<uint32_t>& labels,
+                                            uint32_t p) {
   std::vector<std::vector<uint32_t>> loops;
   std::vector<char> visited(m.num_halfedges(), 0);
   for (uint32_t h0 = 0; h0 < m.num_halfedges(); ++h0) {
-    if (visited[h0] || labels[TriMesh::face_of(h0)] != p || !is_patch_boundary(m, labels, h0)) continue;
+    if (visited[h0] || labels[TriMesh::face_of(h0)] != p || !is_patch_boundary(m, labels, h0))
+      continue;
     loops.emplace_back();
     for (uint32_t h = h0; !visited[h]; h = next_patch_boundary_halfedge(m, labels, h)) {
       visited[h] = 1;
@@ -124,10 +131,12 @@ bool two_path_cut(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint
     for (uint32_t h : loop) l += norm(m.position(m.to(h)) - m.position(m.from(h)));
     return l;
   };
-  std::stable_sort(loops.begin(), loops.end(), [&](auto& x, auto& y) { return length(x) > length(y); });
+  std::stable_sort(loops.begin(), loops.end(),
+                   [&](auto& x, auto& y) { return length(x) > length(y); });
   const auto& outer = loops.front();
   const auto& hole = loops.back();
-  std::vector<char> in_p(m.num_vertices(), 0), on_boundary(m.num_vertices(), 0), on_outer(m.num_vertices(), 0);
+  std::vector<char> in_p(m.num_vertices(), 0), on_boundary(m.num_vertices(), 0),
+      on_outer(m.num_vertices(), 0);
   double edge_sum = 0;
   uint32_t edge_count = 0;
   for (uint32_t f = 0; f < m.num_faces(); ++f)
@@ -144,33 +153,42 @@ bool two_path_cut(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint
   for (uint32_t h : hole) hole_vertices.push_back(m.from(h));
   auto interior_edge = [&](uint32_t e) {
     const uint32_t h = m.edge_halfedge(e);
-    return m.twin(h) != kInvalid && labels[TriMesh::face_of(h)] == p && labels[TriMesh::face_of(m.twin(h))] == p;
+    return m.twin(h) != kInvalid && labels[TriMesh::face_of(h)] == p &&
+           labels[TriMesh::face_of(m.twin(h))] == p;
   };
   auto interior_vertex = [&](uint32_t v) { return in_p[v] && !on_boundary[v]; };
   auto first_outer = [&](const ShortestPaths& d) {
     uint32_t best = kInvalid;
     for (uint32_t h : outer) {
       const uint32_t v = m.from(h);
-      if (d.distance[v] < INFINITY && (best == kInvalid || d.distance[v] < d.distance[best])) best = v;
+      if (d.distance[v] < INFINITY && (best == kInvalid || d.distance[v] < d.distance[best]))
+        best = v;
     }
     return best;
   };
   const ShortestPaths d1 = vertex_dijkstra(
-      m, hole_vertices, [&](uint32_t v, uint32_t e) { return interior_edge(e) && (interior_vertex(v) || on_outer[v]); },
+      m, hole_vertices,
+      [&](uint32_t v, uint32_t e) {
+        return interior_edge(e) && (interior_vertex(v) || on_outer[v]);
+      },
       [&](uint32_t v) { return on_outer[v] != 0; });
   const uint32_t end1 = first_outer(d1);
   if (end1 == kInvalid) return false;
   const std::vector<uint32_t> g1 = d1.path_to(end1);
-  const ShortestPaths away = vertex_dijkstra(m, g1, [&](uint32_t v, uint32_t) { return in_p[v] != 0; });
+  const ShortestPaths away =
+      vertex_dijkstra(m, g1, [&](uint32_t v, uint32_t) { return in_p[v] != 0; });
   const double clearance = 2.0 * edge_sum / std::max(edge_count, 1u);
   uint32_t start2 = kInvalid;
   for (uint32_t v : hole_vertices)
-    if (away.distance[v] < INFINITY && (start2 == kInvalid || away.distance[v] > away.distance[start2])) start2 = v;
+    if (away.distance[v] < INFINITY &&
+        (start2 == kInvalid || away.distance[v] > away.distance[start2]))
+      start2 = v;
   if (start2 == kInvalid || away.distance[start2] < clearance) return false;
   const ShortestPaths d2 = vertex_dijkstra(
       m, {start2},
       [&](uint32_t v, uint32_t e) {
-        return interior_edge(e) && (interior_vertex(v) || on_outer[v]) && away.distance[v] >= clearance;
+        return interior_edge(e) && (interior_vertex(v) || on_outer[v]) &&
+               away.distance[v] >= clearance;
       },
       [&](uint32_t v) { return on_outer[v] != 0; });
   const uint32_t end2 = first_outer(d2);
@@ -262,10 +280,12 @@ uint32_t make_disk_patches(const TriMesh& m, FaceData<uint32_t>& labels, DiskRep
         continue;
       }
       if (!voronoi_split(m, labels, p, n))
-        throw Error(ErrorKind::unsupported_topology, "E201",
-                    fmt::format("patch {} ({} faces, {} boundary loops, euler {}) could not be made a disk; "
-                                "use more --patches",
-                                p, topo[p].faces, topo[p].boundary_loops, topo[p].euler()));
+        throw Error(
+            ErrorKind::unsupported_topology, "E201",
+            fmt::format(
+                "patch {} ({} faces, {} boundary loops, euler {}) could not be made a disk; "
+                "use more --patches",
+                p, topo[p].faces, topo[p].boundary_loops, topo[p].euler()));
       ++log.voronoi_splits;
       changed = true;
     }

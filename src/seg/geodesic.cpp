@@ -88,7 +88,8 @@ double geodesic_distance(const TriMesh& mesh, uint32_t a, uint32_t b,
           const uint32_t opp = TriMesh::next(h), t = mesh.twin(opp);
           if (t == kInvalid || !face_allowed(TriMesh::face_of(t))) return;
           const uint32_t x = mesh.from(TriMesh::prev(t));
-          const Vec3 p = mesh.position(u), q = mesh.position(mesh.to(h)), r = mesh.position(w), s = mesh.position(x);
+          const Vec3 p = mesh.position(u), q = mesh.position(mesh.to(h)), r = mesh.position(w),
+                     s = mesh.position(x);
           // Unfold face (q, w, x) into the plane of (u, q, w) around edge q-w: the angle at q
           // (and at w) is the sum of the two faces' angles; below pi on both ends the straight
           // segment stays inside the two faces. Sums via cos/sin products, without trigonometry.

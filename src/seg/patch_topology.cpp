@@ -10,7 +10,8 @@ bool is_patch_boundary(const TriMesh& mesh, const FaceData<uint32_t>& labels, ui
   return t == kInvalid || labels[TriMesh::face_of(t)] != labels[TriMesh::face_of(h)];
 }
 
-uint32_t next_patch_boundary_halfedge(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t h) {
+uint32_t next_patch_boundary_halfedge(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                                      uint32_t h) {
   // Turn around to(h) through the patch's faces until leaving it.
   uint32_t cur = TriMesh::next(h);
   while (!is_patch_boundary(mesh, labels, cur)) cur = TriMesh::next(mesh.twin(cur));
@@ -49,7 +50,8 @@ std::vector<PatchTopology> patch_topology(const TriMesh& mesh, const FaceData<ui
   return t;
 }
 
-std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh,
+                                                const FaceData<uint32_t>& labels,
                                                 const std::vector<uint32_t>& faces,
                                                 const std::vector<uint32_t>& patches) {
   std::vector<PatchTopology> t(patches.size());
@@ -93,7 +95,8 @@ double patch_angle(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32
   mesh.for_each_outgoing(v, [&](uint32_t h) {
     if (p != kInvalid && labels[TriMesh::face_of(h)] != p) return;
     const Vec3 o = mesh.position(v);
-    const Vec3 a = mesh.position(mesh.to(h)) - o, b = mesh.position(mesh.from(TriMesh::prev(h))) - o;
+    const Vec3 a = mesh.position(mesh.to(h)) - o,
+               b = mesh.position(mesh.from(TriMesh::prev(h))) - o;
     sum += std::atan2(norm(cross(a, b)), dot(a, b));
   });
   return sum;
@@ -103,8 +106,10 @@ uint32_t wedge_count(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint
   uint32_t changes = 0, first = kInvalid, prev = kInvalid;
   mesh.for_each_outgoing(v, [&](uint32_t h) {
     const uint32_t l = labels[TriMesh::face_of(h)];
-    if (first == kInvalid) first = l;
-    else if (l != prev) ++changes;
+    if (first == kInvalid)
+      first = l;
+    else if (l != prev)
+      ++changes;
     prev = l;
   });
   if (mesh.is_boundary_vertex(v)) return changes + 1;

@@ -23,13 +23,15 @@ std::vector<PatchTopology> patch_topology(const TriMesh& mesh, const FaceData<ui
 
 // The same for a few patches, given all their faces; O(faces) plus a clear of scratch
 // arrays, instead of a pass over the whole mesh.
-std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh,
+                                                const FaceData<uint32_t>& labels,
                                                 const std::vector<uint32_t>& faces,
                                                 const std::vector<uint32_t>& patches);
 
 // The boundary halfedge of h's patch that follows h (patch on the left); h must be a boundary
 // halfedge of its patch (its twin in another patch or on the mesh boundary).
-uint32_t next_patch_boundary_halfedge(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t h);
+uint32_t next_patch_boundary_halfedge(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                                      uint32_t h);
 bool is_patch_boundary(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t h);
 
 // Sum of the face angles at v over the faces of patch p (over every face if p is kInvalid).

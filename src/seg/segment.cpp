@@ -14,7 +14,8 @@ void measure_geodesic_lengths(const TriMesh& m, const FaceData<uint32_t>& labels
   }
 }
 
-SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature, const SegmentOptions& options) {
+SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature,
+                      const SegmentOptions& options) {
   SegmentResult r;
   Segmentation vsa = segment_vsa(mesh, feature, options.vsa);
   r.vsa_patches = vsa.num_patches();
@@ -22,7 +23,8 @@ SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature, const 
   r.labels = std::move(vsa.face_patch);
   r.num_patches = make_disk_patches(mesh, r.labels, r.repair);
   if (options.straighten) straighten_seams(mesh, r.labels, r.num_patches, feature, r.straighten);
-  const MetaMesh before_split = build_meta_mesh(mesh, r.labels, r.num_patches, feature, options.meta);
+  const MetaMesh before_split =
+      build_meta_mesh(mesh, r.labels, r.num_patches, feature, options.meta);
 
   r.refined = identity_refinement(mesh);
   r.feature = feature;

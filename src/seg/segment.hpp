@@ -21,7 +21,7 @@ struct SegmentResult {
   EdgeData<char> feature;     // feature edges of the refined mesh
   FaceData<uint32_t> labels;  // patch per face of the refined mesh
   uint32_t num_patches = 0;
-  uint32_t vsa_patches = 0;   // before topology repair
+  uint32_t vsa_patches = 0;  // before topology repair
   DiskRepairLog repair;
   StraightenLog straighten;
   uint32_t dividing_splits = 0;  // edges split for 3-connectedness
@@ -31,11 +31,13 @@ struct SegmentResult {
 
 // Sets every meta-edge's geodesic length (DESIGN.md §3.4): the shortest distance between its
 // ends inside its one or two patches (facing sides measured alike, so the bias cancels).
-void measure_geodesic_lengths(const TriMesh& mesh, const FaceData<uint32_t>& labels, MetaMesh& meta);
+void measure_geodesic_lengths(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                              MetaMesh& meta);
 
 // Runs VSA, topology repair, straightening, the meta-mesh, the dividing-edge split and the
 // geodesic lengths. \throw Error(unsupported_topology, E201) or Error(layout, E301) as the
 // steps do.
-SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature, const SegmentOptions& options);
+SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature,
+                      const SegmentOptions& options);
 
 }  // namespace isoquad

@@ -70,7 +70,9 @@ class Vsa {
  private:
   bool crossable(uint32_t h) const { return m_.twin(h) != kInvalid && !barrier_[m_.edge(h)]; }
   void drop_noise_barriers();
-  double weight() const { return o_.compactness / (area_ / double(std::max<std::size_t>(proxies_.size(), 1))); }
+  double weight() const {
+    return o_.compactness / (area_ / double(std::max<std::size_t>(proxies_.size(), 1)));
+  }
   double face_error(uint32_t f, const Proxy& p) const {
     return a_[f] * (squared_norm(n_[f] - p.normal) + weight() * squared_norm(c_[f] - p.centroid));
   }
@@ -111,7 +113,8 @@ class Vsa {
 // features: they stop being barriers, so that they neither count as patches nor block flooding.
 void Vsa::drop_noise_barriers() {
   std::vector<uint32_t> region;
-  const uint32_t count = face_regions(m_, [&](uint32_t h) { return crossable(h); }, region);
+  const uint32_t count = face_regions(
+      m_, [&](uint32_t h) { return crossable(h); }, region);
   if (count < 2) return;
   std::vector<uint32_t> size(count, 0);
   for (uint32_t r : region) ++size[r];
@@ -181,7 +184,8 @@ void Vsa::partition() {
   flood();
   std::vector<uint32_t> region;
   const uint32_t unreached = face_regions(
-      m_, [&](uint32_t h) { return crossable(h); }, [&](uint32_t f) { return label_[f] == kInvalid; }, region);
+      m_, [&](uint32_t h) { return crossable(h); },
+      [&](uint32_t f) { return label_[f] == kInvalid; }, region);
   if (unreached == 0) return;
   std::vector<uint32_t> best(unreached, kInvalid);
   for (uint32_t f = 0; f < m_.num_faces(); ++f) {
@@ -419,7 +423,8 @@ Segmentation Vsa::run() {
   const uint32_t k0 = uint32_t(proxies_.size());  // one per barrier-enclosed region
   const double e1 = total_error();
   const double h = o_.target_edge_length;
-  const uint32_t k_max = h > 0 ? std::max<uint32_t>(k0, uint32_t(area_ / (16 * h * h))) : std::max(k0, 400u);
+  const uint32_t k_max =
+      h > 0 ? std::max<uint32_t>(k0, uint32_t(area_ / (16 * h * h))) : std::max(k0, 400u);
   const uint32_t k_min = std::max<uint32_t>(k0, m_.boundary_loops().empty() ? 6 : 1);
   const uint32_t target = o_.patches > 0 ? std::max(o_.patches, k0) : k_max;
   // Hierarchical seeding: double the proxy count by error diffusion, relaxing after each step.
@@ -447,7 +452,8 @@ Segmentation Vsa::run() {
 
 }  // namespace
 
-Segmentation segment_vsa(const TriMesh& mesh, const EdgeData<char>& barrier, const VsaOptions& options) {
+Segmentation segment_vsa(const TriMesh& mesh, const EdgeData<char>& barrier,
+                         const VsaOptions& options) {
   return Vsa(mesh, barrier, options).run();
 }
 

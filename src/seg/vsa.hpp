@@ -23,23 +23,24 @@ struct VsaOptions {
 };
 
 struct Proxy {
-  Vec3 normal;     // unit normal of the fitted plane
-  Vec3 centroid;   // area-weighted centroid of the region
+  Vec3 normal;    // unit normal of the fitted plane
+  Vec3 centroid;  // area-weighted centroid of the region
   uint32_t seed_face = kInvalid;
   double error = 0, area = 0;
 };
 
 struct Segmentation {
-  FaceData<uint32_t> face_patch;    // patch id per face, 0..num_patches-1
-  std::vector<Proxy> proxies;       // one per patch
-  std::vector<double> energy_log;   // total error after every partition/fit iteration
+  FaceData<uint32_t> face_patch;   // patch id per face, 0..num_patches-1
+  std::vector<Proxy> proxies;      // one per patch
+  std::vector<double> energy_log;  // total error after every partition/fit iteration
   uint32_t num_patches() const { return static_cast<uint32_t>(proxies.size()); }
 };
 
 // \pre `barrier` has one entry per edge (1 = never flood across it; feature edges).
 // Every region is connected and contains no barrier edge in its interior. Regions enclosed by
 // barriers get a patch each even beyond K.
-Segmentation segment_vsa(const TriMesh& mesh, const EdgeData<char>& barrier, const VsaOptions& options);
+Segmentation segment_vsa(const TriMesh& mesh, const EdgeData<char>& barrier,
+                         const VsaOptions& options);
 
 // The L2,1 (+ compactness) energy of a labelling with its best-fit proxies.
 double vsa_energy(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t num_patches,

@@ -1,7 +1,7 @@
 #include "viz/render.hpp"
 
-#include <algorithm>
 #include <cairo.h>
+#include <algorithm>
 #include <cmath>
 
 #include "io/write_mesh.hpp"
@@ -24,12 +24,18 @@ Rgb distinct_color(uint32_t i) {
   const int sector = int(hue);
   const double f = hue - sector, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
   switch (sector % 6) {
-    case 0: return {v, t, p};
-    case 1: return {q, v, p};
-    case 2: return {p, v, t};
-    case 3: return {p, q, v};
-    case 4: return {t, p, v};
-    default: return {v, p, q};
+    case 0:
+      return {v, t, p};
+    case 1:
+      return {q, v, p};
+    case 2:
+      return {p, v, t};
+    case 3:
+      return {p, q, v};
+    case 4:
+      return {t, p, v};
+    default:
+      return {v, p, q};
   }
 }
 
@@ -43,7 +49,8 @@ Canvas::Canvas(int width, int height, const Box3& box, const Camera& camera)
   // Fit the projected box (all 8 corners) with a 5% margin.
   double ext_x = 1e-300, ext_y = 1e-300;
   for (int i = 0; i < 8; ++i) {
-    const Vec3 p{i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y, i & 4 ? box.hi.z : box.lo.z};
+    const Vec3 p{i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y,
+                 i & 4 ? box.hi.z : box.lo.z};
     ext_x = std::max(ext_x, std::fabs(dot(p - center_, right_)));
     ext_y = std::max(ext_y, std::fabs(dot(p - center_, up_)));
   }
@@ -104,12 +111,13 @@ void Canvas::fill(const TriMesh& mesh, const std::function<Rgb(uint32_t)>& color
   }
 }
 
-void Canvas::fill_polygons(const std::vector<Vec3>& positions, const std::vector<std::vector<uint32_t>>& polygons,
+void Canvas::fill_polygons(const std::vector<Vec3>& positions,
+                           const std::vector<std::vector<uint32_t>>& polygons,
                            const std::function<Rgb(uint32_t)>& color) {
   for (uint32_t f = 0; f < polygons.size(); ++f)
     for (std::size_t i = 1; i + 1 < polygons[f].size(); ++i)
-      raster_triangle(positions[polygons[f][0]], positions[polygons[f][i]], positions[polygons[f][i + 1]],
-                      color(f));
+      raster_triangle(positions[polygons[f][0]], positions[polygons[f][i]],
+                      positions[polygons[f][i + 1]], color(f));
 }
 
 void Canvas::resolve() {
@@ -158,7 +166,8 @@ void Canvas::line(Vec3 a, Vec3 b, Rgb color, double width) {
   bool drawing = false;
   for (int i = 0; i <= steps; ++i) {
     const double t = double(i) / steps;
-    const double x = pa.x + t * (pb.x - pa.x), y = pa.y + t * (pb.y - pa.y), z = pa.z + t * (pb.z - pa.z);
+    const double x = pa.x + t * (pb.x - pa.x), y = pa.y + t * (pb.y - pa.y),
+                 z = pa.z + t * (pb.z - pa.z);
     const bool vis = visible(x, y, z);
     if (vis && !drawing) cairo_move_to(cr, x, y);
     if (vis) cairo_line_to(cr, x, y);
@@ -193,7 +202,8 @@ void Canvas::save_png(const std::filesystem::path& path) {
   write_file_atomically(
       path,
       [&](std::ostream& out) {
-        if (cairo_surface_write_to_png_stream(surface_->surface, write_to_stream, &out) != CAIRO_STATUS_SUCCESS)
+        if (cairo_surface_write_to_png_stream(surface_->surface, write_to_stream, &out) !=
+            CAIRO_STATUS_SUCCESS)
           throw Error(ErrorKind::internal, "E700", "PNG encoding failed");
       },
       true);

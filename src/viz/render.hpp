@@ -37,7 +37,8 @@ class Canvas {
   // Flat-shaded triangles; color(f) gives each face's base colour.
   void fill(const TriMesh& mesh, const std::function<Rgb(uint32_t)>& color);
   // Polygons (e.g. quads), fanned into triangles, with one colour.
-  void fill_polygons(const std::vector<Vec3>& positions, const std::vector<std::vector<uint32_t>>& polygons,
+  void fill_polygons(const std::vector<Vec3>& positions,
+                     const std::vector<std::vector<uint32_t>>& polygons,
                      const std::function<Rgb(uint32_t)>& color);
   // Lines and dots, drawn only where they are not behind the filled surface.
   void line(Vec3 a, Vec3 b, Rgb color, double width);
@@ -57,7 +58,7 @@ class Canvas {
   int w_, h_, ss_ = 2;
   Vec3 right_, up_, forward_, center_;
   double scale_, bias_;
-  std::vector<float> depth_;         // supersampled
+  std::vector<float> depth_;                    // supersampled
   std::vector<std::array<uint8_t, 3>> pixels_;  // supersampled
   bool resolved_ = false;
   struct Surface;

@@ -1,8 +1,8 @@
 // Every corpus mesh is read and prepared, and its topology matches what is known of it. The
 // expected numbers were established independently of isoquad (a separate script counting
 // V - E + F and boundary loops on the raw files) and agree with the models' known shapes.
-#include <fstream>
 #include <gtest/gtest.h>
+#include <fstream>
 
 #include "corpus.hpp"
 #include "io/read_mesh.hpp"
@@ -89,7 +89,8 @@ TEST(Corpus, TestListMatchesCorpusFile) {
     while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
     if (!line.empty()) listed.push_back(line);
   }
-  const std::vector<std::string> tested(std::begin(test::kCorpusMeshes), std::end(test::kCorpusMeshes));
+  const std::vector<std::string> tested(std::begin(test::kCorpusMeshes),
+                                        std::end(test::kCorpusMeshes));
   EXPECT_EQ(listed, tested);
   EXPECT_EQ(listed.size(), std::size(kCorpus));
 }

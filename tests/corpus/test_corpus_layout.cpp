@@ -40,13 +40,15 @@ TEST_P(CorpusLayout, FeasibleExactAndSized) {
     if (quads == 1500) {  // same input, same layout (no dependence on solver timing)
       MetaMesh again_meta = meta_before;
       LayoutReport again_report;
-      const Layout again = solve_layout(seg.refined.mesh, seg.labels, seg.feature, again_meta, lo, again_report);
+      const Layout again =
+          solve_layout(seg.refined.mesh, seg.labels, seg.feature, again_meta, lo, again_report);
       EXPECT_EQ(again.length, l.length);
       EXPECT_EQ(again.quarter_turns, l.quarter_turns);
     }
     EXPECT_TRUE(report.length_optimal);
     for (uint32_t v = 0; v < l.quarter_turns.size(); ++v)
-      EXPECT_GE(l.quarter_turns[v], seg.meta.vertices[v].on_boundary ? 1 : 3) << "degenerate valence";
+      EXPECT_GE(l.quarter_turns[v], seg.meta.vertices[v].on_boundary ? 1 : 3)
+          << "degenerate valence";
     // Never far too few quads; at 5,000 (where every patch holds many) within 10%. Smaller
     // requests can be below what the patches' integer constraints allow.
     EXPECT_GE(double(l.quads()), 0.9 * quads);
@@ -56,7 +58,10 @@ TEST_P(CorpusLayout, FeasibleExactAndSized) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Corpus, CorpusLayout, testing::Combine(testing::ValuesIn(test::kCorpusMeshes), testing::Values(0u, 8u, 30u)),
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusLayout,
+                         testing::Combine(testing::ValuesIn(test::kCorpusMeshes),
+                                          testing::Values(0u, 8u, 30u)),
                          [](const testing::TestParamInfo<Param>& info) {
-                           return test::corpus_case_name(std::get<0>(info.param), std::get<1>(info.param));
+                           return test::corpus_case_name(std::get<0>(info.param),
+                                                         std::get<1>(info.param));
                          });

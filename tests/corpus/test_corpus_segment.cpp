@@ -39,7 +39,10 @@ TEST_P(CorpusSegment, PatchesAreDisksAndMetaMeshIsConsistent) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Corpus, CorpusSegment, testing::Combine(testing::ValuesIn(test::kCorpusMeshes), testing::Values(0u, 8u, 30u)),
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusSegment,
+                         testing::Combine(testing::ValuesIn(test::kCorpusMeshes),
+                                          testing::Values(0u, 8u, 30u)),
                          [](const testing::TestParamInfo<Param>& info) {
-                           return test::corpus_case_name(std::get<0>(info.param), std::get<1>(info.param));
+                           return test::corpus_case_name(std::get<0>(info.param),
+                                                         std::get<1>(info.param));
                          });

@@ -14,7 +14,8 @@ inline void expect_valid_layout(const MetaMesh& meta, const Layout& layout) {
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     const Chart& c = layout.charts[p];
     int64_t side[4] = {0, 0, 0, 0};
-    for (uint32_t i = 0; i < meta.faces[p].cycle.size(); ++i) side[c.item_side[i]] += layout.length[meta.faces[p].cycle[i].edge];
+    for (uint32_t i = 0; i < meta.faces[p].cycle.size(); ++i)
+      side[c.item_side[i]] += layout.length[meta.faces[p].cycle[i].edge];
     EXPECT_EQ(side[0], side[2]) << "patch " << p;
     EXPECT_EQ(side[1], side[3]) << "patch " << p;
     EXPECT_EQ(c.width, side[0]);
@@ -33,7 +34,8 @@ inline void expect_valid_layout(const MetaMesh& meta, const Layout& layout) {
       const MetaFace& f = meta.faces[p];
       for (uint32_t i = 0; i < f.cycle.size(); ++i)
         if (f.cycle[i].edge == e) {
-          const Lattice a = layout.charts[p].item_position[i], b = layout.charts[p].item_position[(i + 1) % f.cycle.size()];
+          const Lattice a = layout.charts[p].item_position[i],
+                        b = layout.charts[p].item_position[(i + 1) % f.cycle.size()];
           return f.cycle[i].forward ? std::pair{a, b} : std::pair{b, a};
         }
       return std::pair{Lattice{}, Lattice{}};

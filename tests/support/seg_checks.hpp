@@ -22,7 +22,8 @@ inline bool patch_connected(const TriMesh& m, const FaceData<uint32_t>& labels, 
     stack.pop_back();
     for (uint32_t i = 0; i < 3; ++i) {
       const uint32_t t = m.twin(3 * f + i);
-      if (t != kInvalid && labels[TriMesh::face_of(t)] == p && seen.insert(TriMesh::face_of(t)).second)
+      if (t != kInvalid && labels[TriMesh::face_of(t)] == p &&
+          seen.insert(TriMesh::face_of(t)).second)
         stack.push_back(TriMesh::face_of(t));
     }
   }
@@ -35,15 +36,17 @@ inline void expect_valid_segmentation(const TriMesh& base, const SegmentResult& 
   const auto topo = patch_topology(m, r.labels, r.num_patches);
   uint32_t bad = 0;
   for (uint32_t p = 0; p < r.num_patches && bad < 5; ++p) {
-    const bool ok = patch_connected(m, r.labels, p) && topo[p].is_disk() && r.meta.faces[p].cycle.size() >= 4;
-    EXPECT_TRUE(ok) << "patch " << p << ": loops " << topo[p].boundary_loops << ", euler " << topo[p].euler()
-                    << ", meta-vertices " << r.meta.faces[p].cycle.size();
+    const bool ok =
+        patch_connected(m, r.labels, p) && topo[p].is_disk() && r.meta.faces[p].cycle.size() >= 4;
+    EXPECT_TRUE(ok) << "patch " << p << ": loops " << topo[p].boundary_loops << ", euler "
+                    << topo[p].euler() << ", meta-vertices " << r.meta.faces[p].cycle.size();
     bad += !ok;
   }
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {  // no pinch: a patch in one wedge per vertex
     std::set<uint32_t> seen;
     for (const Wedge& w : wedges_at(m, r.labels, v))
-      if (!seen.insert(w.patch).second) ADD_FAILURE() << "patch " << w.patch << " pinched at vertex " << v;
+      if (!seen.insert(w.patch).second)
+        ADD_FAILURE() << "patch " << w.patch << " pinched at vertex " << v;
   }
   EXPECT_NO_THROW(check_meta_mesh(m, r.labels, r.meta));
   EXPECT_EQ(r.meta.euler(), m.euler_characteristic());
@@ -54,7 +57,8 @@ inline void expect_valid_segmentation(const TriMesh& base, const SegmentResult& 
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {
     const SurfacePoint sp = r.refined.vertex_origin(v);
     const Tri& t = base.face(sp.face);
-    const Vec3 p = sp.bary[0] * base.position(t[0]) + sp.bary[1] * base.position(t[1]) + sp.bary[2] * base.position(t[2]);
+    const Vec3 p = sp.bary[0] * base.position(t[0]) + sp.bary[1] * base.position(t[1]) +
+                   sp.bary[2] * base.position(t[2]);
     EXPECT_LT(norm(p - m.position(v)), 1e-14) << "vertex " << v;
   }
   for (const MetaEdge& e : r.meta.edges) {

@@ -14,13 +14,13 @@ constexpr double kPi = std::numbers::pi;
 PolyMesh icosphere(int subdivisions) {
   PolyMesh m;
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  const Vec3 base[12] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  const Vec3 base[12] = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   for (const Vec3& p : base) m.positions.push_back(normalized(p));
   std::vector<std::array<uint32_t, 3>> faces = {
-      {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+      {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int s = 0; s < subdivisions; ++s) {
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
     auto midpoint = [&](uint32_t a, uint32_t b) {
@@ -47,8 +47,8 @@ PolyMesh torus(int n_major, int n_minor) {
   for (int i = 0; i < n_major; ++i)
     for (int j = 0; j < n_minor; ++j) {
       const double u = 2 * kPi * i / n_major, v = 2 * kPi * j / n_minor;
-      m.positions.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
-                             r * std::sin(v)});
+      m.positions.push_back({(R + r * std::cos(v)) * std::cos(u),
+                             (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
     }
   auto id = [&](int i, int j) { return uint32_t((i % n_major) * n_minor + (j % n_minor)); };
   for (int i = 0; i < n_major; ++i)
@@ -61,7 +61,8 @@ PolyMesh torus(int n_major, int n_minor) {
 
 PolyMesh cube_quads() {
   PolyMesh m;
-  for (int i = 0; i < 8; ++i) m.positions.push_back({double(i & 1), double((i >> 1) & 1), double(i >> 2)});
+  for (int i = 0; i < 8; ++i)
+    m.positions.push_back({double(i & 1), double((i >> 1) & 1), double(i >> 2)});
   m.add_face({0, 2, 3, 1});  // z = 0, normal -z
   m.add_face({4, 5, 7, 6});  // z = 1
   m.add_face({0, 1, 5, 4});  // y = 0
@@ -80,7 +81,8 @@ PolyMesh subdivided_cube(int n) {
     return it->second;
   };
   // For each face: the fixed axis, its value, and two in-plane axes ordered for an outward normal.
-  const int faces[6][4] = {{0, 0, 2, 1}, {0, 1, 1, 2}, {1, 0, 0, 2}, {1, 1, 2, 0}, {2, 0, 1, 0}, {2, 1, 0, 1}};
+  const int faces[6][4] = {{0, 0, 2, 1}, {0, 1, 1, 2}, {1, 0, 0, 2},
+                           {1, 1, 2, 0}, {2, 0, 1, 0}, {2, 1, 0, 1}};
   for (const auto& f : faces) {
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {

@@ -1,11 +1,11 @@
 // The command line: exit statuses, messages on stderr, and --json output.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <sys/wait.h>
 
 #include "corpus.hpp"
 
@@ -21,7 +21,8 @@ CliRun run(const std::string& args) {
   const std::string tag = std::to_string(::getpid()) + "_" +
                           ::testing::UnitTest::GetInstance()->current_test_info()->name();
   const auto out = dir / ("isoquad_cli_out_" + tag), err = dir / ("isoquad_cli_err_" + tag);
-  const std::string cmd = std::string(ISOQUAD_CLI_PATH) + " " + args + " >" + out.string() + " 2>" + err.string();
+  const std::string cmd =
+      std::string(ISOQUAD_CLI_PATH) + " " + args + " >" + out.string() + " 2>" + err.string();
   const int raw = std::system(cmd.c_str());
   auto slurp = [](const std::filesystem::path& p) {
     std::ifstream in(p);
@@ -94,14 +95,16 @@ TEST(Cli, InfoExplainsWhatRemeshWouldReject) {
 TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto ply = dir / "isoquad_cli_patches.ply", png = dir / "isoquad_cli_patches.png";
-  const CliRun r = run("segment " + (isoquad::test::data_dir() / "elephant.off").string() + " --patches 12 -o " +
-                       ply.string() + " --png " + png.string() + " --json");
+  const CliRun r = run("segment " + (isoquad::test::data_dir() / "elephant.off").string() +
+                       " --patches 12 -o " + ply.string() + " --png " + png.string() + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto doc = nlohmann::json::parse(r.out);
   ASSERT_EQ(doc.size(), 1u);
   EXPECT_GE(doc[0]["patches"].get<int>(), 12);
   EXPECT_EQ(doc[0]["euler"], -4);  // elephant: genus 3
-  EXPECT_EQ(doc[0]["meta_vertices"].get<int>() - doc[0]["meta_edges"].get<int>() + doc[0]["meta_faces"].get<int>(), -4);
+  EXPECT_EQ(doc[0]["meta_vertices"].get<int>() - doc[0]["meta_edges"].get<int>() +
+                doc[0]["meta_faces"].get<int>(),
+            -4);
   // The PLY reads back as a closed genus-3 surface; the PNG starts with the PNG signature.
   const CliRun info = run("info --json " + ply.string());
   ASSERT_EQ(info.status, 0) << info.err;
@@ -113,13 +116,15 @@ TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   std::filesystem::remove(ply);
   std::filesystem::remove(png);
   // Asking for an impossible output format fails cleanly, without a file.
-  const CliRun bad = run("segment " + (isoquad::test::data_dir() / "sphere.off").string() + " -o " + (dir / "x.stl").string());
+  const CliRun bad = run("segment " + (isoquad::test::data_dir() / "sphere.off").string() + " -o " +
+                         (dir / "x.stl").string());
   EXPECT_EQ(bad.status, 2);
   EXPECT_FALSE(std::filesystem::exists(dir / "x.stl"));
 }
 
 TEST(Cli, LayoutReportsChartsAndLengths) {
-  const CliRun r = run("layout " + (isoquad::test::data_dir() / "rotor.off").string() + " --quads 800 --json");
+  const CliRun r =
+      run("layout " + (isoquad::test::data_dir() / "rotor.off").string() + " --quads 800 --json");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto doc = nlohmann::json::parse(r.out);
   ASSERT_EQ(doc.size(), 1u);
@@ -141,8 +146,12 @@ TEST(Cli, LayoutReportsChartsAndLengths) {
   }
   // A genus-1 surface has no net singularity: valence-3 and valence-5 vertices balance.
   const auto& v = j["interior_valence"];
-  const int v3 = v.contains("3") ? v["3"].get<int>() : 0, v5 = v.contains("5") ? v["5"].get<int>() : 0,
+  const int v3 = v.contains("3") ? v["3"].get<int>() : 0,
+            v5 = v.contains("5") ? v["5"].get<int>() : 0,
             v6 = v.contains("6") ? v["6"].get<int>() : 0;
   EXPECT_EQ(v3, v5 + 2 * v6);
-  EXPECT_EQ(run("layout " + (isoquad::test::data_dir() / "rotor.off").string() + " --corners sideways").status, 105);
+  EXPECT_EQ(
+      run("layout " + (isoquad::test::data_dir() / "rotor.off").string() + " --corners sideways")
+          .status,
+      105);
 }

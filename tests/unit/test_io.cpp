@@ -1,7 +1,7 @@
+#include <gtest/gtest.h>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <sstream>
 
 #include "io/read_mesh.hpp"
@@ -36,8 +36,8 @@ void expect_identical(const PolyMesh& a, const PolyMesh& b) {
   for (std::size_t i = 0; i < a.num_vertices(); ++i)
     for (int k = 0; k < 3; ++k) {  // bit-exact, not approximately equal
       const double x = a.positions[i][k], y = b.positions[i][k];
-      EXPECT_EQ(std::memcmp(&x, &y, 8), 0) << "vertex " << i << " coordinate " << k << ": " << x
-                                           << " vs " << y;
+      EXPECT_EQ(std::memcmp(&x, &y, 8), 0)
+          << "vertex " << i << " coordinate " << k << ": " << x << " vs " << y;
     }
   EXPECT_EQ(a.face_offsets, b.face_offsets);
   EXPECT_EQ(a.face_vertices, b.face_vertices);
@@ -131,7 +131,8 @@ TEST(IO, ObjFaceFormsNegativeIndicesAndPolygons) {
 TEST(IO, OffVariants) {
   // Counts on the header line, colours after coordinates and faces, comments, CRLF.
   const std::string off =
-      "COFF 4 2 0\r\n# c\r\n0 0 0 255 0 0 255\r\n1 0 0 1 1 1 1\r\n1 1 0 0 0 0 0\r\n0 1 0 0 0 0 0\r\n"
+      "COFF 4 2 0\r\n# c\r\n0 0 0 255 0 0 255\r\n1 0 0 1 1 1 1\r\n1 1 0 0 0 0 0\r\n0 1 0 0 0 0 "
+      "0\r\n"
       "3 0 1 2 255 0 0\r\n3 0 2 3\r\n";
   const ReadResult r = read_mesh_from_memory(off, MeshFormat::off, "t.off");
   EXPECT_EQ(r.mesh.num_vertices(), 4u);
@@ -143,7 +144,8 @@ TEST(IO, PlySkipsUnknownPropertiesAndElements) {
   const std::string ply =
       "ply\nformat ascii 1.0\ncomment x\nelement vertex 3\nproperty float nx\nproperty double x\n"
       "property double y\nproperty double z\nproperty uchar red\nelement face 1\n"
-      "property list uchar float texcoord\nproperty list uchar int vertex_indices\nproperty int flags\n"
+      "property list uchar float texcoord\nproperty list uchar int vertex_indices\nproperty int "
+      "flags\n"
       "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n"
       "9 0 0 0 255\n9 1 0 0 255\n9 0 1 0 255\n2 0.5 0.5 3 0 1 2 7\n0 1\n";
   const ReadResult r = read_mesh_from_memory(ply, MeshFormat::ply, "t.ply");
@@ -155,7 +157,8 @@ TEST(IO, PlySkipsUnknownPropertiesAndElements) {
 TEST(IO, PlyBigEndianBinary) {
   std::string ply =
       "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-      "property float z\nproperty short extra\nelement face 1\nproperty list uchar uint vertex_indices\n"
+      "property float z\nproperty short extra\nelement face 1\nproperty list uchar uint "
+      "vertex_indices\n"
       "end_header\n";
   const float xyz[3][3] = {{0.5f, 0, 0}, {1, 0, -2}, {0, 1, 0}};
   for (const auto& p : xyz) {
@@ -201,9 +204,10 @@ TEST_P(MalformedInput, GivesItsErrorCode) {
 }
 
 const std::string kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-const std::string kPlyHead = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                             "end_header\n";
+const std::string kPlyHead =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+    "end_header\n";
 
 INSTANTIATE_TEST_SUITE_P(
     IO, MalformedInput,
@@ -224,34 +228,57 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"ObjUnknownStatement", MeshFormat::obj, kTriangle + "fx 1 2 3\n", "E010"},
         Malformed{"OffBadHeader", MeshFormat::off, "OFX\n3 1 0\n", "E010"},
         Malformed{"OffBinary", MeshFormat::off, "OFF BINARY\n", "E002"},
-        Malformed{"OffTooFewVertices", MeshFormat::off, "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n", "E015"},
-        Malformed{"OffTooFewFaces", MeshFormat::off, "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "E015"},
-        Malformed{"OffTrailingData", MeshFormat::off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n", "E015"},
-        Malformed{"OffIndexRange", MeshFormat::off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "E012"},
-        Malformed{"OffNegativeIndex", MeshFormat::off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n", "E012"},
-        Malformed{"OffDegenerateFace", MeshFormat::off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n", "E014"},
-        Malformed{"OffNaN", MeshFormat::off, "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", "E013"},
-        Malformed{"PlyUnknownFormat", MeshFormat::ply, "ply\nformat binary_middle_endian 1.0\nend_header\n", "E002"},
-        Malformed{"PlyNoEndHeader", MeshFormat::ply, "ply\nformat ascii 1.0\nelement vertex 3\n", "E011"},
-        Malformed{"PlyNoXYZ", MeshFormat::ply, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n", "E010"},
+        Malformed{"OffTooFewVertices", MeshFormat::off, "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n",
+                  "E015"},
+        Malformed{"OffTooFewFaces", MeshFormat::off, "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                  "E015"},
+        Malformed{"OffTrailingData", MeshFormat::off,
+                  "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n", "E015"},
+        Malformed{"OffIndexRange", MeshFormat::off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
+                  "E012"},
+        Malformed{"OffNegativeIndex", MeshFormat::off,
+                  "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n", "E012"},
+        Malformed{"OffDegenerateFace", MeshFormat::off,
+                  "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n", "E014"},
+        Malformed{"OffNaN", MeshFormat::off, "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",
+                  "E013"},
+        Malformed{"PlyUnknownFormat", MeshFormat::ply,
+                  "ply\nformat binary_middle_endian 1.0\nend_header\n", "E002"},
+        Malformed{"PlyNoEndHeader", MeshFormat::ply, "ply\nformat ascii 1.0\nelement vertex 3\n",
+                  "E011"},
+        Malformed{"PlyNoXYZ", MeshFormat::ply,
+                  "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n",
+                  "E010"},
         Malformed{"PlyTooFewVertices", MeshFormat::ply, kPlyHead + "0 0 0\n1 0 0\n", "E015"},
-        Malformed{"PlyIndexRange", MeshFormat::ply, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "E012"},
+        Malformed{"PlyIndexRange", MeshFormat::ply, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+                  "E012"},
         Malformed{"PlyTruncatedBinary", MeshFormat::ply,
                   "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
-                  "property float y\nproperty float z\nend_header\n" + std::string(20, '\0'), "E011"},
-        Malformed{"StlTruncatedBinary", MeshFormat::stl, binary_stl({{0, 0, 0, 1, 0, 0, 0, 1, 0}}, 2), "E011"},
+                  "property float y\nproperty float z\nend_header\n" +
+                      std::string(20, '\0'),
+                  "E011"},
+        Malformed{"StlTruncatedBinary", MeshFormat::stl,
+                  binary_stl({{0, 0, 0, 1, 0, 0, 0, 1, 0}}, 2), "E011"},
         Malformed{"StlShortHeader", MeshFormat::stl, std::string(40, '\1'), "E011"},
-        Malformed{"StlAsciiNoEnd", MeshFormat::stl, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n", "E011"},
-        Malformed{"StlAsciiBadVertex", MeshFormat::stl, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n", "E010"},
-        Malformed{"StlBinaryNaN", MeshFormat::stl, binary_stl({{0, 0, 0, NAN, 0, 0, 0, 1, 0}}), "E013"}),
+        Malformed{"StlAsciiNoEnd", MeshFormat::stl,
+                  "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 "
+                  "0\nendloop\nendfacet\n",
+                  "E011"},
+        Malformed{"StlAsciiBadVertex", MeshFormat::stl,
+                  "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n", "E010"},
+        Malformed{"StlBinaryNaN", MeshFormat::stl, binary_stl({{0, 0, 0, NAN, 0, 0, 0, 1, 0}}),
+                  "E013"}),
     [](const testing::TestParamInfo<Malformed>& i) { return std::string(i.param.name); });
 
 TEST(IO, MessagesNameFileAndLine) {
-  EXPECT_NE(message_of(kTriangle + "f 1 2 4\n", MeshFormat::obj).find("bad.mesh:4:"), std::string::npos);
-  EXPECT_NE(message_of("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", MeshFormat::off).find("bad.mesh:6:"),
+  EXPECT_NE(message_of(kTriangle + "f 1 2 4\n", MeshFormat::obj).find("bad.mesh:4:"),
             std::string::npos);
-  EXPECT_NE(message_of(binary_stl({{0, 0, 0, 1, 0, 0, 0, 1, 0}}, 2), MeshFormat::stl).find("(byte 134)"),
-            std::string::npos);
+  EXPECT_NE(
+      message_of("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", MeshFormat::off).find("bad.mesh:6:"),
+      std::string::npos);
+  EXPECT_NE(
+      message_of(binary_stl({{0, 0, 0, 1, 0, 0, 0, 1, 0}}, 2), MeshFormat::stl).find("(byte 134)"),
+      std::string::npos);
 }
 
 TEST(IO, RepairDropsDegenerateFacesWithACount) {

@@ -45,7 +45,8 @@ TEST(Transition, AlgebraIsExact) {
 TEST(Feasibility, PaperFigure4ForcedZero) {
   // Patch 1 makes a and b facing; patch 2 makes b face a plus d: then d = 0 in every solution.
   const uint32_t a = 0, b = 1, d = 2, e = 3;
-  const std::vector<SideRow> rows = {{{a, 1}, {b, -1}}, {{b, 1}, {a, -1}, {d, -1}}, {{e, 1}, {e, -1}}};
+  const std::vector<SideRow> rows = {
+      {{a, 1}, {b, -1}}, {{b, 1}, {a, -1}, {d, -1}}, {{e, 1}, {e, -1}}};
   const Feasibility f = check_feasibility(4, rows);
   EXPECT_FALSE(f.feasible);
   EXPECT_EQ(f.forced_zero, std::vector<uint32_t>{d});
@@ -64,9 +65,11 @@ TEST(Layout, CubeIsSixSquareGrids) {
   Built b = segmented(test::subdivided_cube(n), 6);
   ASSERT_EQ(b.seg.num_patches, 6u);
   LayoutOptions o;
-  o.edge_length = b.component.mesh.bounding_box().diagonal() / std::sqrt(3.0) / 5;  // 5 quads per cube edge
+  o.edge_length =
+      b.component.mesh.bounding_box().diagonal() / std::sqrt(3.0) / 5;  // 5 quads per cube edge
   LayoutReport report;
-  const Layout l = solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, b.seg.meta, o, report);
+  const Layout l =
+      solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, b.seg.meta, o, report);
   test::expect_valid_layout(b.seg.meta, l);
   EXPECT_TRUE(report.repairs.empty());
   EXPECT_EQ(l.quads(), 6 * 25);
@@ -85,7 +88,8 @@ TEST(Layout, PlateGetsItsSize) {
   LayoutOptions o;
   o.edge_length = (box.hi.x - box.lo.x) / 12;  // the plate is a unit square: 12 x 12 quads
   LayoutReport report;
-  const Layout l = solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, b.seg.meta, o, report);
+  const Layout l =
+      solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, b.seg.meta, o, report);
   test::expect_valid_layout(b.seg.meta, l);
   const Chart& c = l.charts[0];
   EXPECT_EQ(c.width, 12);
@@ -114,9 +118,11 @@ TEST(Layout, TorusQuadrantsAreRegular) {
   // Two meta-edges join each pair of neighbouring patches, with different jumps.
   std::map<std::pair<uint32_t, uint32_t>, std::vector<Transition>> between;
   for (uint32_t e = 0; e < mm.edges.size(); ++e) {
-    const auto key = mm.edges[e].left < mm.edges[e].right ? std::pair(mm.edges[e].left, mm.edges[e].right)
-                                                          : std::pair(mm.edges[e].right, mm.edges[e].left);
-    between[key].push_back(mm.edges[e].left < mm.edges[e].right ? l.transition[e] : l.transition[e].inverse());
+    const auto key = mm.edges[e].left < mm.edges[e].right
+                         ? std::pair(mm.edges[e].left, mm.edges[e].right)
+                         : std::pair(mm.edges[e].right, mm.edges[e].left);
+    between[key].push_back(mm.edges[e].left < mm.edges[e].right ? l.transition[e]
+                                                                : l.transition[e].inverse());
   }
   for (const auto& [pair, ts] : between) {
     ASSERT_EQ(ts.size(), 2u);
@@ -132,7 +138,8 @@ TEST(Corners, LocalModeIsThePapersChoice) {
   LayoutOptions o;
   o.corners = CornerMode::local;
   const CornerChoice local = choose_corners(b.seg.refined.mesh, b.seg.meta, cands, o);
-  for (uint32_t p = 0; p < cands.size(); ++p) EXPECT_EQ(local.chosen[p], 0u);  // each patch's best candidate
+  for (uint32_t p = 0; p < cands.size(); ++p)
+    EXPECT_EQ(local.chosen[p], 0u);  // each patch's best candidate
   o.corners = CornerMode::global;
   const CornerChoice global = choose_corners(b.seg.refined.mesh, b.seg.meta, cands, o);
   // The global choice pays at most the candidates' cost for fewer singular quarter turns.
@@ -163,7 +170,8 @@ TEST(Flow, ReachesCbcOptimumOnNetworkLayouts) {
     ASSERT_TRUE(network_signs(uint32_t(b.seg.meta.edges.size()), rows).has_value());
     for (double scale : {2.5, 7.3, 19.9}) {  // several sizes, fractional targets
       std::vector<double> c;
-      for (const MetaEdge& e : b.seg.meta.edges) c.push_back(e.geodesic * scale / b.seg.meta.edges[0].geodesic);
+      for (const MetaEdge& e : b.seg.meta.edges)
+        c.push_back(e.geodesic * scale / b.seg.meta.edges[0].geodesic);
       const Lengths cbc = solve_lengths(c, rows, 10);
       const auto flow = solve_lengths_flow(c, rows);
       ASSERT_TRUE(flow.has_value());

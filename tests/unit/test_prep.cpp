@@ -1,5 +1,5 @@
-#include <cmath>
 #include <gtest/gtest.h>
+#include <cmath>
 
 #include "isoquad/error.hpp"
 #include "prep/prepare.hpp"
@@ -20,7 +20,8 @@ std::string error_code(const PolyMesh& m, PrepOptions o = {}) {
 
 double signed_volume(const TriMesh& m) {
   double v = 0;
-  for (const Tri& t : m.faces()) v += dot(m.position(t[0]), cross(m.position(t[1]), m.position(t[2])));
+  for (const Tri& t : m.faces())
+    v += dot(m.position(t[0]), cross(m.position(t[1]), m.position(t[2])));
   return v / 6;
 }
 
@@ -114,7 +115,9 @@ TEST(Prepare, StlCubeIsWelded) {
   EXPECT_EQ(p.report.welded_vertices, 28u);
   // Every edge of the cube is a 90 degree crease; the face diagonals are flat.
   EXPECT_EQ(p.report.components[0].feature_edges, 12u);
-  EXPECT_EQ(prepare(soup, {.weld_all = true, .feature_angle_deg = 0}).report.components[0].feature_edges, 0u);
+  EXPECT_EQ(
+      prepare(soup, {.weld_all = true, .feature_angle_deg = 0}).report.components[0].feature_edges,
+      0u);
 }
 
 TEST(Prepare, CoincidentInteriorVerticesAreNotWelded) {
@@ -125,7 +128,8 @@ TEST(Prepare, CoincidentInteriorVerticesAreNotWelded) {
   const Vec3 p0 = s.positions[0];
   for (const Vec3& p : s.positions) m.positions.push_back(2.0 * p0 - p);
   const uint32_t n = uint32_t(s.num_vertices());
-  for (std::size_t f = 0; f < s.num_faces(); ++f) m.add_face({s.face(f)[0] + n, s.face(f)[2] + n, s.face(f)[1] + n});
+  for (std::size_t f = 0; f < s.num_faces(); ++f)
+    m.add_face({s.face(f)[0] + n, s.face(f)[2] + n, s.face(f)[1] + n});
   const PreparedMesh p = prepare(m);
   EXPECT_EQ(p.report.welded_vertices, 0u);
   ASSERT_EQ(p.components.size(), 2u);
@@ -139,8 +143,10 @@ TEST(Prepare, OrientationIsMadeConsistentAndOutward) {
   flipped.positions = m.positions;
   for (std::size_t f = 0; f < m.num_faces(); ++f) {
     const auto v = m.face(f);
-    if (f % 10 < 3) flipped.add_face({v[0], v[2], v[1]});  // 30% of the faces
-    else flipped.add_face({v[0], v[1], v[2]});
+    if (f % 10 < 3)
+      flipped.add_face({v[0], v[2], v[1]});  // 30% of the faces
+    else
+      flipped.add_face({v[0], v[1], v[2]});
   }
   const PreparedMesh p = prepare(flipped);
   EXPECT_EQ(p.report.flipped_faces, 96u);
@@ -148,7 +154,8 @@ TEST(Prepare, OrientationIsMadeConsistentAndOutward) {
 
   PolyMesh inside_out;
   inside_out.positions = m.positions;
-  for (std::size_t f = 0; f < m.num_faces(); ++f) inside_out.add_face({m.face(f)[0], m.face(f)[2], m.face(f)[1]});
+  for (std::size_t f = 0; f < m.num_faces(); ++f)
+    inside_out.add_face({m.face(f)[0], m.face(f)[2], m.face(f)[1]});
   const PreparedMesh q = prepare(inside_out);
   EXPECT_EQ(q.report.flipped_faces, 320u);
   EXPECT_GT(signed_volume(q.components[0].mesh), 0);
@@ -168,7 +175,8 @@ TEST(Prepare, DegenerateAndDuplicateFacesAreDroppedWithACount) {
   soup.positions.push_back(soup.positions[0]);
   soup.positions.push_back(soup.positions[1]);
   soup.add_face({36, 37, 38});
-  for (uint32_t k = 0; k < 3; ++k) soup.positions.push_back(soup.positions[k]);  // a duplicate of facet 0
+  for (uint32_t k = 0; k < 3; ++k)
+    soup.positions.push_back(soup.positions[k]);  // a duplicate of facet 0
   soup.add_face({39, 40, 41});
   const PreparedMesh p = prepare(soup, {.weld_all = true});
   EXPECT_EQ(p.report.degenerate_faces, 1u);

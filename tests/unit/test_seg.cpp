@@ -1,6 +1,6 @@
+#include <gtest/gtest.h>
 #include <algorithm>
 #include <map>
-#include <gtest/gtest.h>
 #include <set>
 
 #include "core/refined_mesh.hpp"
@@ -19,7 +19,9 @@ PreparedComponent prepared(const PolyMesh& m, double feature_angle = 60) {
   return std::move(p.components.at(0));
 }
 
-void expect_valid(const TriMesh& base, const SegmentResult& r) { test::expect_valid_segmentation(base, r); }
+void expect_valid(const TriMesh& base, const SegmentResult& r) {
+  test::expect_valid_segmentation(base, r);
+}
 
 SegmentOptions with_patches(uint32_t k, double compactness = 0.05) {
   SegmentOptions o;
@@ -98,7 +100,8 @@ TEST(Disk, OpenTubeBecomesLongStripsNotRings) {
     double lo = INFINITY, hi = -INFINITY;
     for (uint32_t f = 0; f < rm.num_faces(); ++f)
       if (r.labels[f] == p)
-        for (uint32_t v : rm.face(f)) lo = std::min(lo, rm.position(v).z), hi = std::max(hi, rm.position(v).z);
+        for (uint32_t v : rm.face(f))
+          lo = std::min(lo, rm.position(v).z), hi = std::max(hi, rm.position(v).z);
     EXPECT_NEAR(hi - lo, c.mesh.bounding_box().hi.z - c.mesh.bounding_box().lo.z, 1e-12);
   }
   expect_valid(c.mesh, r);
@@ -132,7 +135,8 @@ TEST(Meta, TwoHemispheresGetInsertedMetaVertices) {
   FaceData<uint32_t> labels(c.mesh.num_faces());
   for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {
     const Tri& t = c.mesh.face(f);
-    labels[f] = c.mesh.position(t[0]).z + c.mesh.position(t[1]).z + c.mesh.position(t[2]).z > 0 ? 1 : 0;
+    labels[f] =
+        c.mesh.position(t[0]).z + c.mesh.position(t[1]).z + c.mesh.position(t[2]).z > 0 ? 1 : 0;
   }
   const MetaMesh mm = build_meta_mesh(c.mesh, labels, 2, c.feature);
   EXPECT_EQ(mm.inserted, 4u);
@@ -151,7 +155,8 @@ TEST(Straighten, StaircaseSeamGetsShorterAndTopologyIsKept) {
   for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {
     const Tri& t = c.mesh.face(f);
     const Vec3 m = (c.mesh.position(t[0]) + c.mesh.position(t[1]) + c.mesh.position(t[2])) / 3.0;
-    const double u = (m.x - box.lo.x) / (box.hi.x - box.lo.x), v = (m.y - box.lo.y) / (box.hi.y - box.lo.y);
+    const double u = (m.x - box.lo.x) / (box.hi.x - box.lo.x),
+                 v = (m.y - box.lo.y) / (box.hi.y - box.lo.y);
     labels[f] = u < 0.4 + 0.2 * (int(v * 8) % 2) ? 0 : 1;
   }
   const auto before = patch_topology(c.mesh, labels, 2);
@@ -190,8 +195,9 @@ TEST(Refine, SplitEdgesKeepsSurfaceAndProvenance) {
   RefinedMesh r = identity_refinement(c.mesh);
   // Split one edge, then two edges of one face, then all three of another.
   const uint32_t f = 10, g = 200;
-  std::vector<uint32_t> edges = {c.mesh.edge(3 * f), c.mesh.edge(3 * f + 1), c.mesh.edge(3 * g),
-                                 c.mesh.edge(3 * g + 1), c.mesh.edge(3 * g + 2), c.mesh.edge(3 * 100)};
+  std::vector<uint32_t> edges = {c.mesh.edge(3 * f),     c.mesh.edge(3 * f + 1),
+                                 c.mesh.edge(3 * g),     c.mesh.edge(3 * g + 1),
+                                 c.mesh.edge(3 * g + 2), c.mesh.edge(3 * 100)};
   FaceData<uint32_t> labels(c.mesh.num_faces());
   for (uint32_t k = 0; k < c.mesh.num_faces(); ++k) labels[k] = k;
   EdgeData<char> flags(c.mesh.num_edges(), 0);
@@ -205,14 +211,16 @@ TEST(Refine, SplitEdgesKeepsSurfaceAndProvenance) {
   for (uint32_t k = 0; k < m.num_faces(); ++k) {
     area += m.face_area(k);
     EXPECT_EQ(labels[k], r.base_face[k]);  // labels follow the pieces
-    EXPECT_GT(dot(m.face_normal(k), c.mesh.face_normal(r.base_face[k])), 0.999999);  // orientation kept
+    EXPECT_GT(dot(m.face_normal(k), c.mesh.face_normal(r.base_face[k])),
+              0.999999);  // orientation kept
   }
   for (uint32_t k = 0; k < c.mesh.num_faces(); ++k) base_area += c.mesh.face_area(k);
   EXPECT_NEAR(area, base_area, 1e-14);
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {
     const SurfacePoint sp = r.vertex_origin(v);
     const Tri& t = c.mesh.face(sp.face);
-    const Vec3 p = sp.bary[0] * c.mesh.position(t[0]) + sp.bary[1] * c.mesh.position(t[1]) + sp.bary[2] * c.mesh.position(t[2]);
+    const Vec3 p = sp.bary[0] * c.mesh.position(t[0]) + sp.bary[1] * c.mesh.position(t[1]) +
+                   sp.bary[2] * c.mesh.position(t[2]);
     EXPECT_LT(norm(p - m.position(v)), 1e-15);
   }
 }

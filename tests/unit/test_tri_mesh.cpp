@@ -10,7 +10,8 @@ namespace {
 
 TriMesh to_tri_mesh(const PolyMesh& m) {
   std::vector<Tri> faces;
-  for (std::size_t f = 0; f < m.num_faces(); ++f) faces.push_back({m.face(f)[0], m.face(f)[1], m.face(f)[2]});
+  for (std::size_t f = 0; f < m.num_faces(); ++f)
+    faces.push_back({m.face(f)[0], m.face(f)[1], m.face(f)[2]});
   return TriMesh(m.positions, faces);
 }
 
@@ -95,8 +96,8 @@ TEST(TriMesh, RejectsViolatedPreconditions) {
     return std::string("accepted");
   };
   EXPECT_EQ(code({{0, 1, 2}, {1, 0, 3}, {0, 1, 4}, {2, 3, 4}}), "E100");  // edge with 3 faces
-  EXPECT_EQ(code({{0, 1, 2}, {0, 1, 3}, {2, 3, 4}}), "E100");             // inconsistent orientation
-  EXPECT_EQ(code({{0, 1, 1}}), "E100");                                   // repeated vertex
-  EXPECT_EQ(code({{0, 1, 2}}), "E100");                                   // vertices 3, 4 unused
-  EXPECT_EQ(code({{0, 1, 2}, {0, 3, 4}}), "E100");                        // bow tie at vertex 0
+  EXPECT_EQ(code({{0, 1, 2}, {0, 1, 3}, {2, 3, 4}}), "E100");  // inconsistent orientation
+  EXPECT_EQ(code({{0, 1, 1}}), "E100");                        // repeated vertex
+  EXPECT_EQ(code({{0, 1, 2}}), "E100");                        // vertices 3, 4 unused
+  EXPECT_EQ(code({{0, 1, 2}, {0, 3, 4}}), "E100");             // bow tie at vertex 0
 }
