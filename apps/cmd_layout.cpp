@@ -17,9 +17,7 @@ namespace isoquad::cli {
 namespace {
 struct LayoutArgs {
   std::string mesh, corners = "global", ilp = "cbc";
-  uint32_t patches = 0;
-  double edge_length = 0, quads = 0;
-  uint64_t seed = 1;
+  PatchArgs patch;
   bool json = false;
   PrepArgs prep;
 };
@@ -30,12 +28,7 @@ Runner add_layout(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "layout", "Lay every patch out as an integer rectangle and print the layout");
   sub->add_option("mesh", a->mesh, "Input mesh")->required();
-  sub->add_option("--patches", a->patches, "Number of patches K (default: automatic)");
-  auto* el =
-      sub->add_option("--edge-length", a->edge_length, "Target quad edge length (input units)");
-  sub->add_option("--quads", a->quads,
-                  "Target number of quads (the size is tuned to land within 10%)")
-      ->excludes(el);
+  add_patch_options(*sub, a->patch);
   sub->add_option("--corners", a->corners,
                   "global: one ILP over all patches; local: the paper's per-patch choice")
       ->check(CLI::IsMember({"global", "local"}))
@@ -45,7 +38,6 @@ Runner add_layout(CLI::App& app) {
                   "network matrix, CBC otherwise)")
       ->check(CLI::IsMember({"cbc", "flow"}))
       ->capture_default_str();
-  sub->add_option("--seed", a->seed, "Random seed")->capture_default_str();
   sub->add_flag("--json", a->json, "Print the full layout as JSON");
   add_prep_options(*sub, a->prep);
   return [a] {
@@ -55,21 +47,17 @@ Runner add_layout(CLI::App& app) {
     for (const auto& c : prep.components) total_area += surface_area(c.mesh);
     nlohmann::json out = nlohmann::json::array();
     for (const PreparedComponent& c : prep.components) {
-      const double h = component_edge_length(c.mesh, surface_area(c.mesh) / total_area,
-                                             {a->edge_length, a->quads}, prep.normalization.scale);
-      SegmentOptions so;
-      so.vsa.patches = a->patches;
-      so.vsa.seed = a->seed;
-      so.vsa.target_edge_length = h;
-      so.meta.corner_window = h;
+      const double share = surface_area(c.mesh) / total_area;
+      const SegmentOptions so = segment_options(a->patch, c.mesh, share, prep.normalization.scale);
+      const double h = so.vsa.target_edge_length;
       SegmentResult seg = segment(c.mesh, c.feature, so);
       LayoutOptions lo;
       lo.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;
       lo.length_solver = a->ilp == "flow" ? LengthSolver::flow : LengthSolver::cbc;
-      if (a->edge_length > 0)
+      if (a->patch.edge_length > 0)
         lo.edge_length = h;
       else
-        lo.quads = a->quads > 0 ? a->quads * surface_area(c.mesh) / total_area : 0;
+        lo.quads = a->patch.quads > 0 ? a->patch.quads * share : 0;
       LayoutReport report;
       const Layout layout =
           solve_layout(seg.refined.mesh, seg.labels, seg.feature, seg.meta, lo, report);

@@ -17,10 +17,7 @@ namespace isoquad::cli {
 namespace {
 struct SegmentArgs {
   std::string mesh, output, png;
-  uint32_t patches = 0;
-  double edge_length = 0;
-  uint32_t quads = 0;
-  uint64_t seed = 1;
+  PatchArgs patch;
   bool json = false;
   PrepArgs prep;
 };
@@ -33,11 +30,7 @@ Runner add_segment(CLI::App& app) {
   sub->add_option("mesh", a->mesh, "Input mesh")->required();
   sub->add_option("-o,--output", a->output, "Output PLY with per-face patch ids and colours");
   sub->add_option("--png", a->png, "Picture of the patches");
-  sub->add_option("--patches", a->patches, "Number of patches K (default: automatic)");
-  auto* el =
-      sub->add_option("--edge-length", a->edge_length, "Target quad edge length (input units)");
-  sub->add_option("--quads", a->quads, "Target number of quads")->excludes(el);
-  sub->add_option("--seed", a->seed, "Random seed")->capture_default_str();
+  add_patch_options(*sub, a->patch);
   sub->add_flag("--json", a->json, "Print a JSON summary");
   add_prep_options(*sub, a->prep);
   return [a] {
@@ -47,15 +40,11 @@ Runner add_segment(CLI::App& app) {
     std::vector<SegmentResult> shown;
     nlohmann::json summary = nlohmann::json::array();
     uint32_t offset = 0;
+    double total_area = 0;
+    for (const auto& c : prep.components) total_area += surface_area(c.mesh);
     for (const PreparedComponent& c : prep.components) {
-      SegmentOptions so;
-      VsaOptions& o = so.vsa;
-      o.patches = a->patches;
-      o.seed = a->seed;
-      const double quads = a->quads ? a->quads : default_quad_count(c.mesh);
-      o.target_edge_length = a->edge_length > 0 ? a->edge_length * prep.normalization.scale
-                                                : edge_length_for_quads(c.mesh, quads);
-      so.meta.corner_window = o.target_edge_length;
+      const SegmentOptions so = segment_options(a->patch, c.mesh, surface_area(c.mesh) / total_area,
+                                                prep.normalization.scale);
       SegmentResult seg = segment(c.mesh, c.feature, so);
       const MetaMesh& mm = seg.meta;
       summary.push_back(

@@ -4,7 +4,9 @@
 #include <CLI/CLI.hpp>
 
 #include "io/read_mesh.hpp"
+#include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
+#include "seg/segment.hpp"
 
 namespace isoquad::cli {
 
@@ -41,6 +43,34 @@ inline void add_prep_options(CLI::App& sub, PrepArgs& a) {
                  "Dihedral angle in degrees above which an edge is a feature (0: none)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 180.0));
+}
+
+// Patch count, size and seed: shared by the subcommands that segment.
+struct PatchArgs {
+  uint32_t patches = 0;
+  double edge_length = 0, quads = 0;
+  uint64_t seed = 1;
+};
+
+inline void add_patch_options(CLI::App& sub, PatchArgs& a) {
+  sub.add_option("--patches", a.patches, "Number of patches K (default: automatic)");
+  auto* el =
+      sub.add_option("--edge-length", a.edge_length, "Target quad edge length (input units)");
+  sub.add_option("--quads", a.quads, "Target number of quads (the size is tuned to land near it)")
+      ->excludes(el);
+  sub.add_option("--seed", a.seed, "Random seed")->capture_default_str();
+}
+
+// Segmentation options for one component: the requested size shared out by area.
+inline SegmentOptions segment_options(const PatchArgs& a, const TriMesh& component,
+                                      double area_share, double scale) {
+  SegmentOptions so;
+  so.vsa.patches = a.patches;
+  so.vsa.seed = a.seed;
+  so.vsa.target_edge_length =
+      component_edge_length(component, area_share, {a.edge_length, a.quads}, scale);
+  so.meta.corner_window = so.vsa.target_edge_length;
+  return so;
 }
 
 }  // namespace isoquad::cli
