@@ -64,13 +64,9 @@ inline void add_patch_options(CLI::App& sub, PatchArgs& a) {
 // Segmentation options for one component: the requested size shared out by area.
 inline SegmentOptions segment_options(const PatchArgs& a, const TriMesh& component,
                                       double area_share, double scale) {
-  SegmentOptions so;
-  so.vsa.patches = a.patches;
-  so.vsa.seed = a.seed;
-  so.vsa.target_edge_length =
-      component_edge_length(component, area_share, {a.edge_length, a.quads}, scale);
-  so.meta.corner_window = so.vsa.target_edge_length;
-  return so;
+  return SegmentOptions::sized(
+      component_edge_length(component, area_share, {a.edge_length, a.quads}, scale), a.patches,
+      a.seed);
 }
 
 }  // namespace isoquad::cli

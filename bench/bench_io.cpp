@@ -5,15 +5,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "io/read_mesh.hpp"
+#include "bench_corpus.hpp"
 #include "prep/prepare.hpp"
 
 namespace {
-
-std::filesystem::path corpus(const char* name) {
-  const char* dir = std::getenv("ISOQUAD_CORPUS_DIR");
-  return std::filesystem::path(dir ? dir : ISOQUAD_SOURCE_DIR "/corpus") / name;
-}
 
 std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -23,26 +18,23 @@ std::string slurp(const std::filesystem::path& p) {
 }
 
 void BM_ReadFile(benchmark::State& state, const char* name) {
-  const auto path = corpus(name);
-  if (!std::filesystem::exists(path))
-    return state.SkipWithError("corpus missing: run scripts/get-corpus");
+  const auto path = isoquad::bench::corpus_path(name);
+  if (!std::filesystem::exists(path)) return state.SkipWithError(isoquad::bench::kMissing);
   for (auto _ : state) benchmark::DoNotOptimize(isoquad::read_mesh(path));
   state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(std::filesystem::file_size(path)));
 }
 
 void BM_ParseMemory(benchmark::State& state, const char* name) {
-  const auto path = corpus(name);
-  if (!std::filesystem::exists(path))
-    return state.SkipWithError("corpus missing: run scripts/get-corpus");
+  const auto path = isoquad::bench::corpus_path(name);
+  if (!std::filesystem::exists(path)) return state.SkipWithError(isoquad::bench::kMissing);
   const std::string bytes = slurp(path);
   for (auto _ : state)
     benchmark::DoNotOptimize(isoquad::read_mesh_from_memory(bytes, isoquad::MeshFormat::off, name));
 }
 
 void BM_Prepare(benchmark::State& state, const char* name) {
-  const auto path = corpus(name);
-  if (!std::filesystem::exists(path))
-    return state.SkipWithError("corpus missing: run scripts/get-corpus");
+  const auto path = isoquad::bench::corpus_path(name);
+  if (!std::filesystem::exists(path)) return state.SkipWithError(isoquad::bench::kMissing);
   const auto read = isoquad::read_mesh(path);
   for (auto _ : state) benchmark::DoNotOptimize(isoquad::prepare(read.mesh));
 }

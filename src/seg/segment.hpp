@@ -14,6 +14,17 @@ struct SegmentOptions {
   VsaOptions vsa;
   MetaMeshOptions meta;
   bool straighten = true;
+
+  // The options for a target quad edge length h (mesh units): it bounds K and the smallest
+  // patch, and sets the window of boundary-corner detection.
+  static SegmentOptions sized(double h, uint32_t patches = 0, uint64_t seed = 1) {
+    SegmentOptions o;
+    o.vsa.patches = patches;
+    o.vsa.seed = seed;
+    o.vsa.target_edge_length = h;
+    o.meta.corner_window = h;
+    return o;
+  }
 };
 
 struct SegmentResult {

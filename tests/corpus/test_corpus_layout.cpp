@@ -26,10 +26,7 @@ TEST_P(CorpusLayout, FeasibleExactAndSized) {
   const PreparedComponent& c = p.components.at(0);
   for (const double quads : {500.0, 1500.0, 5000.0}) {
     SCOPED_TRACE(testing::Message() << quads << " quads");
-    SegmentOptions so;
-    so.vsa.patches = k;
-    so.vsa.target_edge_length = edge_length_for_quads(c.mesh, quads);
-    so.meta.corner_window = so.vsa.target_edge_length;
+    const SegmentOptions so = SegmentOptions::sized(edge_length_for_quads(c.mesh, quads), k);
     SegmentResult seg = segment(c.mesh, c.feature, so);
     LayoutOptions lo;
     lo.quads = quads;
