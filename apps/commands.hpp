@@ -12,5 +12,6 @@ using Runner = std::function<int()>;
 Runner add_info(CLI::App& app);
 Runner add_segment(CLI::App& app);
 Runner add_layout(CLI::App& app);
+Runner add_param(CLI::App& app);
 
 }  // namespace isoquad::cli

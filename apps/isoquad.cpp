@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   add(isoquad::cli::add_info);
   add(isoquad::cli::add_segment);
   add(isoquad::cli::add_layout);
+  add(isoquad::cli::add_param);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
