@@ -89,6 +89,7 @@ Runner add_param(CLI::App& app) {
     const ReadResult read = read_mesh(a->mesh, a->prep.read_options());
     const PreparedMesh prep = prepare(read.mesh, a->prep.prep_options(read));
     PipelineOptions o;
+    o.last = Stage::param;
     o.patches = a->patch.patches;
     o.edge_length = a->patch.edge_length;
     o.quads = a->patch.quads;

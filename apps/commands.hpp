@@ -13,5 +13,8 @@ Runner add_info(CLI::App& app);
 Runner add_segment(CLI::App& app);
 Runner add_layout(CLI::App& app);
 Runner add_param(CLI::App& app);
+Runner add_remesh(CLI::App& app);
+Runner add_quality(CLI::App& app);
+Runner add_render(CLI::App& app);
 
 }  // namespace isoquad::cli

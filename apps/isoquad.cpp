@@ -20,6 +20,9 @@ int main(int argc, char** argv) {
   add(isoquad::cli::add_segment);
   add(isoquad::cli::add_layout);
   add(isoquad::cli::add_param);
+  add(isoquad::cli::add_remesh);
+  add(isoquad::cli::add_quality);
+  add(isoquad::cli::add_render);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -63,4 +63,41 @@ void to_json(nlohmann::json& j, const InputReport& r) {
        {"remesh_would_accept", !r.has_errors()}};
 }
 
+void to_json(nlohmann::json& j, const Topology& t) {
+  j = {{"euler", t.euler},
+       {"genus", t.genus()},
+       {"components", t.components},
+       {"boundary_loops", t.boundary_loops}};
+}
+
+void to_json(nlohmann::json& j, const QualityReport& q) {
+  nlohmann::json valence = nlohmann::json::object();
+  for (const auto& [k, n] : q.valence) valence[std::to_string(k)] = n;
+  j = {{"vertices", q.vertices},
+       {"faces", q.faces},
+       {"non_quads", q.non_quads},
+       {"pure_quad", q.pure_quad},
+       {"edge_manifold", q.edge_manifold},
+       {"vertex_manifold", q.vertex_manifold},
+       {"oriented", q.oriented},
+       {"topology", q.topology},
+       {"interior_valence", valence},
+       {"irregular_vertices", q.irregular},
+       {"scaled_jacobian",
+        {{"min", q.sj_min},
+         {"mean", q.sj_mean},
+         {"percent_below_0.5", q.sj_below_half},
+         {"nonpositive", q.sj_nonpositive}}},
+       {"angle_deviation_deg", {{"mean", q.angle_deviation_mean}, {"max", q.angle_deviation_max}}},
+       {"edge_length", {{"mean", q.edge_mean}, {"cv", q.edge_cv}}}};
+  if (q.has_reference) {
+    j["reference_topology"] = *q.reference_topology;
+    j["same_topology"] = q.same_topology;
+    j["scaled_jacobian_surface"] = {{"min", q.sj_surface_min},
+                                    {"nonpositive", q.sj_surface_nonpositive}};
+    j["hausdorff"] = q.hausdorff;
+    j["mean_distance"] = q.mean_distance;
+  }
+}
+
 }  // namespace isoquad

@@ -43,6 +43,12 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   run.param = parametrize(run.seg.refined.mesh, run.seg.labels, run.seg.meta, run.layout, o.param,
                           run.param_report);
   run.param_seconds = seconds_since(t0);
+  if (o.last == Stage::param) return run;
+
+  t0 = Clock::now();
+  run.quads = extract_quads(run.seg.refined, comp.mesh, run.seg.labels, run.seg.meta, run.layout,
+                            run.param, run.extract_report);
+  run.extract_seconds = seconds_since(t0);
   return run;
 }
 
@@ -50,6 +56,26 @@ std::vector<ComponentRun> run_pipeline(const PreparedMesh& prep, const PipelineO
   std::vector<ComponentRun> runs;
   for (uint32_t c = 0; c < prep.components.size(); ++c) runs.push_back(run_component(prep, c, o));
   return runs;
+}
+
+}  // namespace isoquad
+
+namespace isoquad {
+
+PolyMesh merge_quads(const PreparedMesh& prep, const std::vector<ComponentRun>& runs) {
+  PolyMesh out;
+  uint32_t patch_base = 0;
+  for (const ComponentRun& run : runs) {
+    const uint32_t base = uint32_t(out.positions.size());
+    for (const Vec3& p : run.quads.positions) out.positions.push_back(prep.normalization.invert(p));
+    for (std::size_t q = 0; q < run.quads.quads.size(); ++q) {
+      const auto& v = run.quads.quads[q];
+      out.add_face({base + v[0], base + v[1], base + v[2], base + v[3]});
+      out.face_group.push_back(int32_t(patch_base + run.quads.quad_patch[q]));
+    }
+    patch_base += uint32_t(run.layout.charts.size());
+  }
+  return out;
 }
 
 }  // namespace isoquad

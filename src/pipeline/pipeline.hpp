@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/poly_mesh.hpp"
+#include "extract/extract.hpp"
 #include "layout/layout.hpp"
 #include "param/param.hpp"
 #include "prep/prepare.hpp"
@@ -13,7 +15,7 @@
 
 namespace isoquad {
 
-enum class Stage { segment, layout, param };
+enum class Stage { segment, layout, param, extract };
 
 struct PipelineOptions {
   uint32_t patches = 0;    // K; 0: automatic
@@ -22,7 +24,7 @@ struct PipelineOptions {
   uint64_t seed = 1;
   LayoutOptions layout;  // corners and length solver (size fields are set per component)
   ParamOptions param;
-  Stage last = Stage::param;
+  Stage last = Stage::extract;
 };
 
 struct ComponentRun {
@@ -33,7 +35,9 @@ struct ComponentRun {
   LayoutReport layout_report;
   Param param;
   ParamReport param_report;
-  double segment_seconds = 0, layout_seconds = 0, param_seconds = 0;
+  QuadMesh quads;
+  ExtractReport extract_report;
+  double segment_seconds = 0, layout_seconds = 0, param_seconds = 0, extract_seconds = 0;
 };
 
 // Runs the stages up to options.last on component `c` of `prep`.
@@ -41,5 +45,9 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
 
 // Every component, in order.
 std::vector<ComponentRun> run_pipeline(const PreparedMesh& prep, const PipelineOptions& options);
+
+// The components' quads as one mesh in input coordinates; face_group is the patch id, numbered
+// across components.
+PolyMesh merge_quads(const PreparedMesh& prep, const std::vector<ComponentRun>& runs);
 
 }  // namespace isoquad

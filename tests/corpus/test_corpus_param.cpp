@@ -24,6 +24,7 @@ TEST_P(CorpusParam, CertifiedAndSeamless) {
   ISOQUAD_CORPUS_MESH(path, file);
   const PreparedMesh p = prepare(read_mesh(path).mesh);
   PipelineOptions o;
+  o.last = Stage::param;
   o.patches = k;
   o.quads = 1500;
   if (std::string(file) == "knot1.off" && k == 8) {
@@ -63,6 +64,7 @@ TEST(CorpusParamFigure2, UnitWeightsFlipLockedDoesNot) {
   ISOQUAD_CORPUS_MESH(path, "elephant.off");
   const PreparedMesh p = prepare(read_mesh(path).mesh);
   PipelineOptions o;
+  o.last = Stage::param;
   o.quads = 1500;
   o.param.relax = RelaxMode::none;
   const ComponentRun run = run_component(p, 0, o);

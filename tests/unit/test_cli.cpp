@@ -155,3 +155,42 @@ TEST(Cli, LayoutReportsChartsAndLengths) {
           .status,
       105);
 }
+
+TEST(Cli, RemeshQualityAndParamOnSampleMeshes) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto out = dir / ("isoquad_cli_quads_" + std::to_string(::getpid()) + ".ply");
+  const std::string in = (isoquad::test::data_dir() / "rotor.off").string();
+  const CliRun r = run("remesh " + in + " -o " + out.string() + " --quads 800 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("component 0: segment"), std::string::npos) << r.err;  // progress
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["quality"]["pure_quad"].get<bool>());
+  EXPECT_TRUE(j["quality"]["same_topology"].get<bool>());
+  const CliRun q = run("quality --json " + out.string() + " --reference " + in);
+  ASSERT_EQ(q.status, 0) << q.err;
+  const auto jq = nlohmann::json::parse(q.out);
+  EXPECT_EQ(jq["faces"], j["quads"]);
+  EXPECT_EQ(jq["topology"], j["quality"]["topology"]);
+  std::filesystem::remove(out);
+  const auto obj = dir / ("isoquad_cli_param_" + std::to_string(::getpid()) + ".obj");
+  const CliRun p = run("param " + in + " --quads 800 -o " + obj.string() + " --json");
+  ASSERT_EQ(p.status, 0) << p.err;
+  EXPECT_TRUE(nlohmann::json::parse(p.out)[0]["certified"].get<bool>());
+  std::ifstream objin(obj);
+  std::string line;
+  std::size_t vt = 0;
+  while (std::getline(objin, line)) vt += line.rfind("vt ", 0) == 0;
+  EXPECT_GT(vt, 0u);
+  std::filesystem::remove(obj);
+}
+
+TEST(Cli, RemeshFailureLeavesNoOutput) {
+  const auto bad = write_temp("isoquad_cli_bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_never.obj";
+  std::filesystem::remove(out);
+  const CliRun r = run("remesh " + bad.string() + " -o " + out.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("isoquad: error:"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::filesystem::remove(bad);
+}

@@ -1,0 +1,40 @@
+// isoquad's library entry point: a triangle mesh in, a pure quad mesh out.
+//
+//   Eigen::MatrixXd V;  // #V x 3 positions
+//   Eigen::MatrixXi F;  // #F x 3 vertex indices (0-based, consistently oriented)
+//   isoquad::RemeshResult r = isoquad::remesh(V, F, {.quads = 1500});
+//   // r.V: #Vq x 3, r.Q: #Q x 4 (counter-clockwise seen from outside), r.patch: #Q
+//
+// Failures throw isoquad::Error (isoquad/error.hpp) with a code, a message and the elements.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+
+namespace isoquad {
+
+struct RemeshOptions {
+  uint32_t patches = 0;    // K; 0: automatic
+  double edge_length = 0;  // target quad edge length (input units); 0: from quads
+  double quads = 0;        // target quad count; 0: one per 8 input triangles (1,000-20,000)
+  uint64_t seed = 1;
+  bool paper_weights = false;      // Floater's mean value weights (default: symmetrized, SPD)
+  std::string relax = "adaptive";  // adaptive, bisection or locked
+  bool local_corners = false;      // the paper's per-patch corner choice
+  double feature_angle_deg = 60;   // dihedral angle above which edges are creases (0: none)
+  bool repair = false;             // detach non-manifold edges, drop degenerate faces
+  bool quality = true;             // measure the output against the input (in `report`)
+};
+
+struct RemeshResult {
+  Eigen::MatrixXd V;      // quad mesh vertices, on the input surface
+  Eigen::MatrixXi Q;      // quads
+  Eigen::VectorXi patch;  // patch id per quad
+  std::string report;     // JSON: per-component stages, counts, timings; quality
+};
+
+RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                    const RemeshOptions& options = {});
+
+}  // namespace isoquad

@@ -1,0 +1,223 @@
+#include "extract/extract.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include "isoquad/error.hpp"
+
+namespace isoquad {
+
+namespace {
+
+// Faces of one patch bucketed by the unit lattice cells their uv bounding boxes touch.
+class ChartIndex {
+ public:
+  ChartIndex() = default;
+  ChartIndex(const std::vector<uint32_t>& faces, const ParamMap& map) : map_(&map) {
+    if (faces.empty()) return;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (const uint32_t f : faces)
+      for (const UV& p : map.uv[f])
+        for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    x0_ = int64_t(std::floor(lo[0])) - 1;
+    y0_ = int64_t(std::floor(lo[1])) - 1;
+    nx_ = int64_t(std::floor(hi[0])) - x0_ + 2;
+    ny_ = int64_t(std::floor(hi[1])) - y0_ + 2;
+    std::vector<uint32_t> count(std::size_t(nx_ * ny_) + 1, 0);
+    auto cells = [&](uint32_t f, auto&& fn) {
+      double a[2] = {INFINITY, INFINITY}, b[2] = {-INFINITY, -INFINITY};
+      for (const UV& p : map.uv[f])
+        for (int k = 0; k < 2; ++k) a[k] = std::min(a[k], p[k]), b[k] = std::max(b[k], p[k]);
+      for (int64_t y = int64_t(std::floor(a[1])); y <= int64_t(std::floor(b[1])); ++y)
+        for (int64_t x = int64_t(std::floor(a[0])); x <= int64_t(std::floor(b[0])); ++x)
+          fn(std::size_t((y - y0_) * nx_ + (x - x0_)));
+    };
+    for (const uint32_t f : faces) cells(f, [&](std::size_t c) { ++count[c + 1]; });
+    for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
+    start_ = count;
+    items_.resize(count.back());
+    for (const uint32_t f : faces) cells(f, [&](std::size_t c) { items_[count[c]++] = f; });
+  }
+
+  // A face whose uv triangle contains q (closed), with q's barycentric coordinates in it.
+  template <class Accept>
+  std::optional<std::pair<uint32_t, std::array<double, 3>>> locate(const UV& q,
+                                                                   Accept&& accept) const {
+    if (!map_ || items_.empty()) return std::nullopt;
+    // Faces are bucketed by floor() of their closed bounding boxes, and floor is monotone, so
+    // every face whose box contains q is in q's own cell.
+    const int64_t x = int64_t(std::floor(q[0])) - x0_, y = int64_t(std::floor(q[1])) - y0_;
+    if (x < 0 || y < 0 || x >= nx_ || y >= ny_) return std::nullopt;
+    const std::size_t c = std::size_t(y * nx_ + x);
+    for (uint32_t i = start_[c]; i < start_[c + 1]; ++i) {
+      const uint32_t f = items_[i];
+      const auto& t = map_->uv[f];
+      const double o0 = orient2d(t[1], t[2], q), o1 = orient2d(t[2], t[0], q),
+                   o2 = orient2d(t[0], t[1], q);
+      if (o0 < 0 || o1 < 0 || o2 < 0 || !accept(f)) continue;
+      const double sum = o0 + o1 + o2;
+      if (!(sum > 0)) continue;
+      return std::pair{f, std::array<double, 3>{o0 / sum, o1 / sum, o2 / sum}};
+    }
+    return std::nullopt;
+  }
+
+ private:
+  const ParamMap* map_ = nullptr;
+  int64_t x0_ = 0, y0_ = 0, nx_ = 0, ny_ = 0;
+  std::vector<uint32_t> start_, items_;
+};
+
+UV apply(const Transition& t, const UV& p) {
+  UV r = p;
+  for (int k = 0; k < t.k; ++k) r = {-r[1], r[0]};
+  return {r[0] + double(t.t[0]), r[1] + double(t.t[1])};
+}
+
+}  // namespace
+
+QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
+                       const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout,
+                       const Param& param, ExtractReport& report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const TriMesh& mesh = refined.mesh;
+  const uint32_t np = uint32_t(layout.charts.size());
+  QuadMesh out;
+
+  // Lattice ids: meta-vertices, then the inner points of every meta-edge, then patch interiors.
+  std::vector<uint32_t> edge_first(meta.edges.size());
+  uint32_t next = uint32_t(meta.vertices.size());
+  for (uint32_t e = 0; e < meta.edges.size(); ++e) {
+    edge_first[e] = next;
+    next += uint32_t(layout.length[e] - 1);
+  }
+  // Representative (patch, lattice point) of every id: the first patch that owns it, the left
+  // patch for meta-edge points; meta-vertices are placed exactly.
+  struct Rep {
+    uint32_t patch = kInvalid;
+    Lattice at{0, 0};
+    uint32_t edge = kInvalid;  // meta-edge of a seam point
+  };
+  std::vector<Rep> rep(next);
+  std::vector<std::vector<uint32_t>> grid(np);  // per patch: (W+1)(H+1) ids
+  for (uint32_t p = 0; p < np; ++p) {
+    const Chart& ch = layout.charts[p];
+    const int64_t W = ch.width, H = ch.height;
+    auto& g = grid[p];
+    g.assign(std::size_t((W + 1) * (H + 1)), kInvalid);
+    auto at = [&](Lattice q) -> uint32_t& { return g[std::size_t(q[1] * (W + 1) + q[0])]; };
+    const MetaFace& face = meta.faces[p];
+    for (uint32_t i = 0; i < face.cycle.size(); ++i) {
+      const BoundaryItem& item = face.cycle[i];
+      const int64_t x = layout.length[item.edge];
+      const Lattice a = ch.item_position[i];
+      const Lattice b = ch.item_position[(i + 1) % face.cycle.size()];
+      const Lattice d{(b[0] - a[0]) / x, (b[1] - a[1]) / x};
+      at(a) = face.start_vertex(i, meta.edges);
+      for (int64_t s = 1; s < x; ++s) {
+        const Lattice q{a[0] + s * d[0], a[1] + s * d[1]};
+        const uint32_t id = edge_first[item.edge] + uint32_t((item.forward ? s : x - s) - 1);
+        at(q) = id;
+        if (rep[id].patch == kInvalid || item.forward) rep[id] = {p, q, item.edge};
+      }
+    }
+    for (int64_t j = 1; j < H; ++j)
+      for (int64_t i = 1; i < W; ++i) {
+        at({i, j}) = next;
+        rep.push_back({p, {i, j}, kInvalid});
+        ++next;
+      }
+    for (int64_t j = 0; j < H; ++j)
+      for (int64_t i = 0; i < W; ++i) {
+        out.quads.push_back({at({i, j}), at({i + 1, j}), at({i + 1, j + 1}), at({i, j + 1})});
+        out.quad_patch.push_back(p);
+      }
+  }
+  for (const auto& g : grid)
+    for (const uint32_t id : g)
+      if (id == kInvalid)
+        throw Error(ErrorKind::internal, "E601", "a lattice point of a patch has no id");
+
+  // Geometry.
+  std::vector<std::vector<uint32_t>> patch_faces(np);
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) patch_faces[labels[f]].push_back(f);
+  std::vector<ChartIndex> relaxed(np), locked(np);
+  for (uint32_t p = 0; p < np; ++p) {
+    relaxed[p] = ChartIndex(patch_faces[p], param.map);
+    locked[p] = ChartIndex(patch_faces[p], param.locked);
+  }
+  auto surface_point = [&](uint32_t f, const std::array<double, 3>& l) {
+    SurfacePoint s{refined.base_face[f], {0, 0, 0}};
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) s.bary[k] += l[c] * refined.corner_bary[f][c][k];
+    return s;
+  };
+  const auto any = [](uint32_t) { return true; };
+  out.surface.resize(next);
+  out.vertex_meta_vertex.assign(next, kInvalid);
+  for (uint32_t id = 0; id < next; ++id) {
+    if (id < meta.vertices.size()) {
+      out.surface[id] = refined.vertex_origin(meta.vertices[id].vertex);
+      out.vertex_meta_vertex[id] = id;
+      ++report.meta;
+      continue;
+    }
+    const Rep& r = rep[id];
+    const UV q{double(r.at[0]), double(r.at[1])};
+    if (auto hit = relaxed[r.patch].locate(q, any)) {
+      out.surface[id] = surface_point(hit->first, hit->second);
+      ++report.direct;
+      continue;
+    }
+    // Across the seams of the patch: the point may be covered by a neighbour whose seam
+    // bulges into this rectangle. Only faces near that seam are accepted, so that two
+    // meta-edges between the same patches (different transitions) cannot be confused.
+    bool found = false;
+    const MetaFace& face = meta.faces[r.patch];
+    for (uint32_t i = 0; i < face.cycle.size() && !found; ++i) {
+      const MetaEdge& me = meta.edges[face.cycle[i].edge];
+      if (me.right == kInvalid) continue;
+      const bool left = me.left == r.patch;
+      const uint32_t other = left ? me.right : me.left;
+      const Transition t = left ? layout.transition[face.cycle[i].edge]
+                                : layout.transition[face.cycle[i].edge].inverse();
+      // Distance from q to the meta-edge's segment in this chart: at most 2 lattice units.
+      const Lattice a = layout.charts[r.patch].item_position[i];
+      const Lattice b = layout.charts[r.patch].item_position[(i + 1) % face.cycle.size()];
+      const double lx = double(b[0] - a[0]), ly = double(b[1] - a[1]);
+      const double len2 = lx * lx + ly * ly;
+      const double s = std::clamp(((q[0] - a[0]) * lx + (q[1] - a[1]) * ly) / len2, 0.0, 1.0);
+      if (std::hypot(q[0] - (a[0] + s * lx), q[1] - (a[1] + s * ly)) > 2.0) continue;
+      const UV qo = apply(t, q);
+      if (auto hit = relaxed[other].locate(qo, any)) {
+        out.surface[id] = surface_point(hit->first, hit->second);
+        ++report.across;
+        found = true;
+      }
+    }
+    if (found) continue;
+    if (auto hit = locked[r.patch].locate(q, any)) {
+      out.surface[id] = surface_point(hit->first, hit->second);
+      ++report.locked;
+      continue;
+    }
+    throw Error(ErrorKind::internal, "E601",
+                fmt::format("lattice point ({}, {}) of patch {} is not covered by the map", r.at[0],
+                            r.at[1], r.patch));
+  }
+  out.positions.resize(next);
+  for (uint32_t id = 0; id < next; ++id) {
+    const SurfacePoint& s = out.surface[id];
+    const Tri& t = base.face(s.face);
+    out.positions[id] = s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
+                        s.bary[2] * base.position(t[2]);
+  }
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace isoquad

@@ -1,0 +1,42 @@
+// Quad extraction (paper §2 step 3, §4; DESIGN.md §8): connectivity from the layout, geometry
+// from the map. Each patch's W x H lattice becomes a grid of quads, glued to its neighbours
+// through shared ids for the lattice points on meta-edges and meta-vertices, so the result is
+// pure quad, manifold and of the input's topology by construction. Each lattice point is then
+// located in the certified map (in its patch's faces, else across the nearest seam through the
+// transition, else in the locked map) and placed on the input surface by barycentric
+// interpolation through the refinement's provenance.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/refined_mesh.hpp"
+#include "layout/layout.hpp"
+#include "param/param.hpp"
+
+namespace isoquad {
+
+struct QuadMesh {
+  std::vector<Vec3> positions;                 // on the base mesh (the prepared component)
+  std::vector<SurfacePoint> surface;           // per vertex: base face and barycentrics
+  std::vector<std::array<uint32_t, 4>> quads;  // CCW seen from outside
+  std::vector<uint32_t> quad_patch;
+  std::vector<uint32_t> vertex_meta_vertex;  // per vertex: meta-vertex or kInvalid
+};
+
+struct ExtractReport {
+  uint32_t direct = 0;  // lattice points found in their own patch's faces
+  uint32_t across = 0;  // found across a seam, through its transition
+  uint32_t locked = 0;  // placed with the locked map (fallback)
+  uint32_t meta = 0;    // meta-vertices (exact)
+  double seconds = 0;
+};
+
+// \pre param.certificate.ok() or param is the locked map; layout passed check_layout.
+// \throw Error(internal, E601) when a lattice point cannot be placed at all (a bug).
+QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
+                       const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout,
+                       const Param& param, ExtractReport& report);
+
+}  // namespace isoquad

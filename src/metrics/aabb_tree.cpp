@@ -1,0 +1,128 @@
+#include "metrics/aabb_tree.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace isoquad {
+
+namespace {
+
+Box3 box_of(const std::array<Vec3, 3>& t) {
+  Box3 b;
+  for (const Vec3& p : t) b.add(p);
+  return b;
+}
+
+double box_distance2(const Box3& b, const Vec3& p) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = std::max({b.lo[k] - p[k], 0.0, p[k] - b.hi[k]});
+    d2 += d * d;
+  }
+  return d2;
+}
+
+}  // namespace
+
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Voronoi regions of the vertices, then of the edges, else the face.
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = va + vb + vc;
+  if (!(std::fabs(denom) > 0)) return a;  // degenerate triangle
+  const double v = vb / denom, w = vc / denom;
+  return a + v * ab + w * ac;
+}
+
+AabbTree::AabbTree(std::vector<std::array<Vec3, 3>> triangles) : tris_(std::move(triangles)) {
+  order_.resize(tris_.size());
+  std::iota(order_.begin(), order_.end(), 0u);
+  nodes_.reserve(2 * tris_.size() / 4 + 2);
+  if (!tris_.empty()) build(0, uint32_t(tris_.size()));
+}
+
+uint32_t AabbTree::build(uint32_t begin, uint32_t end) {
+  const uint32_t id = uint32_t(nodes_.size());
+  nodes_.push_back({});
+  Box3 box, centers;
+  for (uint32_t i = begin; i < end; ++i) {
+    const auto& t = tris_[order_[i]];
+    box.add(box_of(t).lo);
+    box.add(box_of(t).hi);
+    centers.add((t[0] + t[1] + t[2]) / 3.0);
+  }
+  nodes_[id].box = box;
+  if (end - begin <= 4) {
+    nodes_[id].leaf = true;
+    nodes_[id].left = begin;
+    nodes_[id].right = end;
+    return id;
+  }
+  const Vec3 ext = centers.hi - centers.lo;
+  const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+  const uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](uint32_t a, uint32_t b) {
+                     const double ca = tris_[a][0][axis] + tris_[a][1][axis] + tris_[a][2][axis];
+                     const double cb = tris_[b][0][axis] + tris_[b][1][axis] + tris_[b][2][axis];
+                     return ca < cb || (ca == cb && a < b);
+                   });
+  const uint32_t l = build(begin, mid);
+  const uint32_t r = build(mid, end);
+  nodes_[id].left = l;
+  nodes_[id].right = r;
+  return id;
+}
+
+AabbTree::Hit AabbTree::closest(const Vec3& p) const {
+  Hit best{INFINITY, 0, {}};
+  double best2 = INFINITY;
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const uint32_t n = stack.back();
+    stack.pop_back();
+    const Node& node = nodes_[n];
+    if (box_distance2(node.box, p) >= best2) continue;
+    if (node.leaf) {
+      for (uint32_t i = node.left; i < node.right; ++i) {
+        const auto& t = tris_[order_[i]];
+        const Vec3 q = closest_point_on_triangle(p, t[0], t[1], t[2]);
+        const double d2 = squared_norm(q - p);
+        if (d2 < best2 || (d2 == best2 && order_[i] < best.triangle)) {
+          best2 = d2;
+          best = {0, order_[i], q};
+        }
+      }
+      continue;
+    }
+    const double dl = box_distance2(nodes_[node.left].box, p);
+    const double dr = box_distance2(nodes_[node.right].box, p);
+    // Push the farther child first so the nearer one is searched first.
+    if (dl <= dr) {
+      stack.push_back(node.right);
+      stack.push_back(node.left);
+    } else {
+      stack.push_back(node.left);
+      stack.push_back(node.right);
+    }
+  }
+  best.distance = std::sqrt(best2);
+  return best;
+}
+
+}  // namespace isoquad

@@ -1,0 +1,41 @@
+// Closest-point queries on a triangle set (for distances between surfaces): a bounding-volume
+// hierarchy split at the median of the longest axis, searched nearest-box first.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/vec.hpp"
+
+namespace isoquad {
+
+class AabbTree {
+ public:
+  explicit AabbTree(std::vector<std::array<Vec3, 3>> triangles);
+
+  struct Hit {
+    double distance = 0;
+    uint32_t triangle = 0;
+    Vec3 point;
+  };
+  // \pre at least one triangle.
+  Hit closest(const Vec3& p) const;
+  const std::vector<std::array<Vec3, 3>>& triangles() const { return tris_; }
+
+ private:
+  struct Node {
+    Box3 box;
+    uint32_t left = 0, right = 0;  // children (inner node) or [begin, end) of order_ (leaf)
+    bool leaf = false;
+  };
+  uint32_t build(uint32_t begin, uint32_t end);
+  std::vector<std::array<Vec3, 3>> tris_;
+  std::vector<uint32_t> order_;
+  std::vector<Node> nodes_;
+};
+
+// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+}  // namespace isoquad

@@ -1,0 +1,274 @@
+#include "metrics/quality.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <unordered_map>
+
+#include "core/element_data.hpp"
+#include "core/union_find.hpp"
+#include "metrics/aabb_tree.hpp"
+
+namespace isoquad {
+
+int64_t Topology::genus() const {
+  return (2 * int64_t(components) - euler - int64_t(boundary_loops)) / 2;
+}
+
+namespace {
+
+struct EdgeUse {
+  uint32_t count = 0, forward = 0;  // forward: used as (min -> max)
+  uint32_t f0 = kInvalidFace, c0 = 0, f1 = kInvalidFace, c1 = 0;
+  static constexpr uint32_t kInvalidFace = 0xFFFFFFFFu;
+};
+
+uint64_t edge_key(uint32_t a, uint32_t b) {
+  return (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+}
+
+Vec3 newell_normal(const PolyMesh& m, std::size_t f) {
+  const auto vs = m.face(f);
+  Vec3 n;
+  for (std::size_t i = 0; i < vs.size(); ++i) {
+    const Vec3& a = m.positions[vs[i]];
+    const Vec3& b = m.positions[vs[(i + 1) % vs.size()]];
+    n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+  }
+  return normalized(n);
+}
+
+std::vector<std::array<Vec3, 3>> fan_triangles(const PolyMesh& m) {
+  std::vector<std::array<Vec3, 3>> t;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    const auto vs = m.face(f);
+    for (std::size_t i = 1; i + 1 < vs.size(); ++i)
+      t.push_back({m.positions[vs[0]], m.positions[vs[i]], m.positions[vs[i + 1]]});
+  }
+  return t;
+}
+
+// One-sided distances from area samples (and the vertices) of `from` to `to`.
+void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTree& to,
+                      uint32_t samples, uint64_t seed, double& max_d, double& sum_d,
+                      uint64_t& count) {
+  std::vector<double> cum(from.size() + 1, 0.0);
+  for (std::size_t i = 0; i < from.size(); ++i)
+    cum[i + 1] = cum[i] + 0.5 * norm(cross(from[i][1] - from[i][0], from[i][2] - from[i][0]));
+  std::mt19937_64 rng(seed);
+  auto uniform = [&] { return double(rng() >> 11) * 0x1.0p-53; };
+  auto visit = [&](const Vec3& p) {
+    const double d = to.closest(p).distance;
+    max_d = std::max(max_d, d);
+    sum_d += d;
+    ++count;
+  };
+  for (const auto& t : from)
+    for (const Vec3& p : t) visit(p);
+  if (!(cum.back() > 0)) return;
+  for (uint32_t s = 0; s < samples; ++s) {
+    const double r = uniform() * cum.back();
+    const std::size_t i = std::min<std::size_t>(
+        std::upper_bound(cum.begin(), cum.end(), r) - cum.begin() - 1, from.size() - 1);
+    double a = uniform(), b = uniform();
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    const auto& t = from[i];
+    visit(t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]));
+  }
+}
+
+Topology topology_of(const PolyMesh& m, bool* edge_manifold, bool* vertex_manifold, bool* oriented,
+                     std::vector<uint32_t>* boundary_vertex_flag,
+                     std::vector<uint32_t>* corner_count) {
+  std::unordered_map<uint64_t, EdgeUse> edges;
+  edges.reserve(m.face_vertices.size());
+  std::vector<uint32_t> corner_base(m.num_faces() + 1, 0);
+  for (std::size_t f = 0; f < m.num_faces(); ++f)
+    corner_base[f + 1] = corner_base[f] + uint32_t(m.face(f).size());
+  bool em = true, ori = true;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    const auto vs = m.face(f);
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      const uint32_t a = vs[i], b = vs[(i + 1) % vs.size()];
+      EdgeUse& e = edges[edge_key(a, b)];
+      if (e.count == 0) {
+        e.f0 = uint32_t(f);
+        e.c0 = uint32_t(i);
+      } else if (e.count == 1) {
+        e.f1 = uint32_t(f);
+        e.c1 = uint32_t(i);
+      }
+      ++e.count;
+      e.forward += a < b;
+    }
+  }
+  std::vector<char> used(m.num_vertices(), 0);
+  for (const uint32_t v : m.face_vertices) used[v] = 1;
+  UnionFind comp(uint32_t(m.num_vertices()));
+  UnionFind bloops(uint32_t(m.num_vertices()));
+  UnionFind corners(corner_base.back());
+  std::vector<uint32_t> boundary(m.num_vertices(), 0);
+  for (const auto& [key, e] : edges) {
+    const uint32_t a = uint32_t(key >> 32), b = uint32_t(key & 0xFFFFFFFFu);
+    comp.unite(a, b);
+    if (e.count > 2) em = false;
+    if (e.count == 2 && e.forward != 1) ori = false;
+    if (e.count == 1) {
+      bloops.unite(a, b);
+      ++boundary[a];
+      ++boundary[b];
+    }
+    if (e.count == 2) {  // glue the corners of both faces at each end of the edge
+      const auto n0 = uint32_t(m.face(e.f0).size()), n1 = uint32_t(m.face(e.f1).size());
+      const uint32_t f0a = corner_base[e.f0] + e.c0, f0b = corner_base[e.f0] + (e.c0 + 1) % n0;
+      const uint32_t f1a = corner_base[e.f1] + e.c1, f1b = corner_base[e.f1] + (e.c1 + 1) % n1;
+      // Face 1 runs the edge the other way (when oriented): its start is face 0's end.
+      const bool same_start = m.face(e.f0)[e.c0] == m.face(e.f1)[e.c1];
+      corners.unite(f0a, same_start ? f1a : f1b);
+      corners.unite(f0b, same_start ? f1b : f1a);
+    }
+  }
+  // Vertex manifold: the corners at each vertex form one fan, and it has 0 or 2 boundary edges.
+  std::vector<uint32_t> fan(m.num_vertices(), kInvalid);
+  std::vector<uint32_t> count(m.num_vertices(), 0);
+  bool vm = true;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    const auto vs = m.face(f);
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      const uint32_t r = corners.find(corner_base[f] + uint32_t(i));
+      ++count[vs[i]];
+      if (fan[vs[i]] == kInvalid)
+        fan[vs[i]] = r;
+      else if (fan[vs[i]] != r)
+        vm = false;
+    }
+  }
+  for (uint32_t v = 0; v < m.num_vertices(); ++v)
+    if (boundary[v] != 0 && boundary[v] != 2) vm = false;
+  Topology t;
+  int64_t nv = 0;
+  for (uint32_t v = 0; v < m.num_vertices(); ++v) {
+    if (!used[v]) continue;
+    ++nv;
+    if (comp.find(v) == v) ++t.components;
+    if (boundary[v] && bloops.find(v) == v) ++t.boundary_loops;
+  }
+  t.euler = nv - int64_t(edges.size()) + int64_t(m.num_faces());
+  if (edge_manifold) *edge_manifold = em;
+  if (vertex_manifold) *vertex_manifold = vm && em;
+  if (oriented) *oriented = ori;
+  if (boundary_vertex_flag) *boundary_vertex_flag = boundary;
+  if (corner_count) *corner_count = count;
+  return t;
+}
+
+}  // namespace
+
+QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
+                              const QualityOptions& options) {
+  QualityReport q;
+  q.vertices = m.num_vertices();
+  q.faces = m.num_faces();
+  for (std::size_t f = 0; f < m.num_faces(); ++f) q.non_quads += m.face(f).size() != 4;
+  q.pure_quad = q.non_quads == 0 && q.faces > 0;
+  std::vector<uint32_t> boundary, valence;
+  q.topology =
+      topology_of(m, &q.edge_manifold, &q.vertex_manifold, &q.oriented, &boundary, &valence);
+  for (uint32_t v = 0; v < m.num_vertices(); ++v) {
+    if (valence[v] == 0 || boundary[v]) continue;
+    ++q.valence[int(valence[v])];
+    q.irregular += valence[v] != 4;
+  }
+
+  std::optional<AabbTree> ref_tree;
+  if (reference) {
+    q.has_reference = true;
+    q.reference_topology = topology_of(*reference, nullptr, nullptr, nullptr, nullptr, nullptr);
+    q.same_topology = q.reference_topology->euler == q.topology.euler &&
+                      q.reference_topology->components == q.topology.components &&
+                      q.reference_topology->boundary_loops == q.topology.boundary_loops;
+    ref_tree.emplace(fan_triangles(*reference));
+  }
+
+  // Element shape.
+  double sj_sum = 0, angle_sum = 0;
+  uint32_t below_half = 0, corners_seen = 0;
+  q.sj_min = q.sj_surface_min = INFINITY;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    const auto vs = m.face(f);
+    const Vec3 n = newell_normal(m, f);
+    double sj = INFINITY, sj_surface = INFINITY;
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      const Vec3& p = m.positions[vs[i]];
+      const Vec3 e1 = m.positions[vs[(i + 1) % vs.size()]] - p;
+      const Vec3 e2 = m.positions[vs[(i + vs.size() - 1) % vs.size()]] - p;
+      const double l = norm(e1) * norm(e2);
+      const Vec3 c = cross(e1, e2);
+      sj = std::min(sj, l > 0 ? dot(n, c) / l : 0.0);
+      if (ref_tree) {
+        const auto& t = ref_tree->triangles()[ref_tree->closest(p).triangle];
+        const Vec3 rn = normalized(cross(t[1] - t[0], t[2] - t[0]));
+        sj_surface = std::min(sj_surface, l > 0 ? dot(rn, c) / l : 0.0);
+      }
+      const double angle =
+          l > 0 ? std::acos(std::clamp(dot(e1, e2) / l, -1.0, 1.0)) * 180 / std::numbers::pi : 0.0;
+      angle_sum += std::fabs(angle - 90);
+      q.angle_deviation_max = std::max(q.angle_deviation_max, std::fabs(angle - 90));
+      ++corners_seen;
+    }
+    q.sj_min = std::min(q.sj_min, sj);
+    sj_sum += sj;
+    below_half += sj < 0.5;
+    q.sj_nonpositive += sj <= 0;
+    if (ref_tree) {
+      q.sj_surface_min = std::min(q.sj_surface_min, sj_surface);
+      q.sj_surface_nonpositive += sj_surface <= 0;
+    }
+  }
+  if (m.num_faces()) {
+    q.sj_mean = sj_sum / double(m.num_faces());
+    q.sj_below_half = 100.0 * below_half / double(m.num_faces());
+  }
+  if (!ref_tree) q.sj_surface_min = 0;
+  if (corners_seen) q.angle_deviation_mean = angle_sum / corners_seen;
+
+  // Edge lengths (each edge once).
+  std::unordered_map<uint64_t, double> lengths;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    const auto vs = m.face(f);
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      const uint32_t a = vs[i], b = vs[(i + 1) % vs.size()];
+      lengths.emplace(edge_key(a, b), norm(m.positions[a] - m.positions[b]));
+    }
+  }
+  double sum = 0, sum2 = 0;
+  for (const auto& [k, l] : lengths) sum += l, sum2 += l * l;
+  if (!lengths.empty()) {
+    q.edge_mean = sum / double(lengths.size());
+    const double var = std::max(0.0, sum2 / double(lengths.size()) - q.edge_mean * q.edge_mean);
+    q.edge_cv = q.edge_mean > 0 ? std::sqrt(var) / q.edge_mean : 0;
+  }
+
+  // Two-sided distances, over the reference's bounding-box diagonal.
+  if (ref_tree) {
+    Box3 box;
+    for (const Vec3& p : reference->positions) box.add(p);
+    const double diag = box.diagonal() > 0 ? box.diagonal() : 1.0;
+    const std::vector<std::array<Vec3, 3>> quad_tris = fan_triangles(m);
+    const AabbTree quad_tree(quad_tris);
+    double max_a = 0, sum_a = 0, max_b = 0, sum_b = 0;
+    uint64_t na = 0, nb = 0;
+    sample_distances(quad_tris, *ref_tree, options.samples, options.seed, max_a, sum_a, na);
+    sample_distances(ref_tree->triangles(), quad_tree, options.samples, options.seed + 1, max_b,
+                     sum_b, nb);
+    q.hausdorff = std::max(max_a, max_b) / diag;
+    q.mean_distance =
+        0.5 *
+        (sum_a / double(std::max<uint64_t>(na, 1)) + sum_b / double(std::max<uint64_t>(nb, 1))) /
+        diag;
+  }
+  return q;
+}
+
+}  // namespace isoquad

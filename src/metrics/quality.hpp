@@ -1,0 +1,51 @@
+// Quality of a quad mesh (DESIGN.md §9.1): validity (pure quad, manifold, topology against the
+// input), singularities, element shape (scaled Jacobian, angles, edge lengths) and distance to
+// the input surface (two-sided, area-sampled, over the input's bounding-box diagonal).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "core/poly_mesh.hpp"
+
+namespace isoquad {
+
+struct Topology {
+  int64_t euler = 0;
+  uint32_t components = 0, boundary_loops = 0;
+  int64_t genus() const;  // summed over components: (2 c - chi - b) / 2
+};
+
+struct QualityReport {
+  uint64_t vertices = 0, faces = 0, non_quads = 0;
+  bool pure_quad = false, edge_manifold = false, vertex_manifold = false, oriented = false;
+  Topology topology;
+  std::optional<Topology> reference_topology;
+  bool same_topology = false;       // as the reference (when there is one)
+  std::map<int, uint32_t> valence;  // interior vertices by number of quads
+  uint32_t irregular = 0;           // interior vertices with valence != 4
+  // Scaled Jacobian per quad: the minimum over its four corners of n . (e1 x e2)/(|e1||e2|).
+  double sj_min = 0, sj_mean = 0, sj_below_half = 0;  // the last in percent
+  uint32_t sj_nonpositive = 0;
+  // The same against the input surface's normal at each corner (closest input face).
+  double sj_surface_min = 0;
+  uint32_t sj_surface_nonpositive = 0;
+  double angle_deviation_mean = 0, angle_deviation_max = 0;  // |corner angle - 90| in degrees
+  double edge_mean = 0, edge_cv = 0;
+  double hausdorff = 0, mean_distance = 0;  // over the reference's bounding-box diagonal
+  bool has_reference = false;
+};
+
+struct QualityOptions {
+  uint32_t samples = 20000;  // area samples per surface for the distances
+  uint64_t seed = 1;
+};
+
+// \pre quads has at least one face. `reference` (triangles or polygons) enables topology
+// comparison, surface-normal Jacobians and distances.
+QualityReport measure_quality(const PolyMesh& quads, const PolyMesh* reference,
+                              const QualityOptions& options = {});
+
+}  // namespace isoquad

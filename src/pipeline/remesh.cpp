@@ -1,0 +1,134 @@
+#include "pipeline/remesh.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "io/report_json.hpp"
+#include "isoquad/error.hpp"
+#include "metrics/quality.hpp"
+#include "pipeline/pipeline.hpp"
+#include "prep/prepare.hpp"
+
+namespace isoquad {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
+                           const std::function<void(const std::string&)>& progress) {
+  auto say = [&](const std::string& s) {
+    if (progress) progress(s);
+  };
+  if (opt.relax != "adaptive" && opt.relax != "bisection" && opt.relax != "locked")
+    throw Error(ErrorKind::invalid_input, "E003",
+                fmt::format("unknown relaxation '{}' (adaptive, bisection or locked)", opt.relax));
+  auto t0 = std::chrono::steady_clock::now();
+  PrepOptions po;
+  po.repair = opt.repair;
+  po.weld_all = unshared_vertices;
+  po.feature_angle_deg = opt.feature_angle_deg;
+  const PreparedMesh prep = prepare(input, po);
+  const double prep_s = seconds_since(t0);
+  say(fmt::format("prepared {} component{} ({:.0f} ms)", prep.components.size(),
+                  prep.components.size() == 1 ? "" : "s", 1e3 * prep_s));
+  PipelineOptions o;
+  o.patches = opt.patches;
+  o.edge_length = opt.edge_length;
+  o.quads = opt.quads;
+  o.seed = opt.seed;
+  o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
+  o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;
+  o.param.relax = opt.relax == "bisection" ? RelaxMode::bisection
+                  : opt.relax == "locked"  ? RelaxMode::locked
+                                           : RelaxMode::adaptive;
+  std::vector<ComponentRun> runs;
+  nlohmann::json comps = nlohmann::json::array();
+  for (uint32_t c = 0; c < prep.components.size(); ++c) {
+    runs.push_back(run_component(prep, c, o));
+    const ComponentRun& r = runs.back();
+    say(fmt::format(
+        "component {}: segment {} patches ({:.0f} ms), layout {} quads ({:.0f} ms), "
+        "param {} factorizations{} ({:.0f} ms), extract ({:.0f} ms)",
+        c, r.seg.num_patches, 1e3 * r.segment_seconds, r.layout.quads(), 1e3 * r.layout_seconds,
+        r.param_report.factorizations, r.param_report.fell_back_to_locked ? ", locked map" : "",
+        1e3 * r.param_seconds, 1e3 * r.extract_seconds));
+    std::map<std::string, int> valence;
+    for (uint32_t v = 0; v < r.seg.meta.vertices.size(); ++v)
+      if (!r.seg.meta.vertices[v].on_boundary) ++valence[std::to_string(r.layout.quarter_turns[v])];
+    comps.push_back({{"component", prep.components[c].report_index},
+                     {"patches", r.seg.num_patches},
+                     {"meta_vertices", r.seg.meta.vertices.size()},
+                     {"meta_vertex_valence", valence},
+                     {"quads", r.layout.quads()},
+                     {"edge_length", r.layout.edge_length / prep.normalization.scale},
+                     {"layout_repairs", r.layout_report.repairs},
+                     {"factorizations", r.param_report.factorizations},
+                     {"flipped_unstiffened", r.param_report.flipped_unstiffened},
+                     {"locked_meta_edges", r.param_report.locked_meta_edges},
+                     {"fell_back_to_locked", r.param_report.fell_back_to_locked},
+                     {"lattice_points",
+                      {{"direct", r.extract_report.direct},
+                       {"across_seam", r.extract_report.across},
+                       {"locked_fallback", r.extract_report.locked},
+                       {"meta_vertices", r.extract_report.meta}}},
+                     {"seconds",
+                      {{"segment", r.segment_seconds},
+                       {"layout", r.layout_seconds},
+                       {"param", r.param_seconds},
+                       {"extract", r.extract_seconds}}}});
+  }
+  PolyRemesh out;
+  out.quads = merge_quads(prep, runs);
+  nlohmann::json j = {
+      {"quads", out.quads.num_faces()}, {"components", comps}, {"seconds", {{"prepare", prep_s}}}};
+  if (opt.quality) {
+    t0 = std::chrono::steady_clock::now();
+    j["quality"] = measure_quality(out.quads, &input);
+    j["seconds"]["quality"] = seconds_since(t0);
+  }
+  out.report = j.dump(2);
+  return out;
+}
+
+RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                    const RemeshOptions& options) {
+  if (V.cols() != 3 || F.cols() != 3)
+    throw Error(ErrorKind::invalid_input, "E020",
+                fmt::format("V must be #V x 3 and F #F x 3 (got {} x {} and {} x {})", V.rows(),
+                            V.cols(), F.rows(), F.cols()));
+  PolyMesh m;
+  m.positions.resize(std::size_t(V.rows()));
+  for (Eigen::Index i = 0; i < V.rows(); ++i) m.positions[i] = {V(i, 0), V(i, 1), V(i, 2)};
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k)
+      if (F(f, k) < 0 || F(f, k) >= V.rows())
+        throw Error(
+            ErrorKind::invalid_input, "E020",
+            fmt::format("face {} refers to vertex {}, but V has {} rows", f, F(f, k), V.rows()),
+            {.faces = {uint32_t(f)}});
+    m.add_face({uint32_t(F(f, 0)), uint32_t(F(f, 1)), uint32_t(F(f, 2))});
+  }
+  const PolyRemesh r = remesh_polymesh(m, options);
+  RemeshResult out;
+  out.V.resize(Eigen::Index(r.quads.num_vertices()), 3);
+  for (std::size_t i = 0; i < r.quads.num_vertices(); ++i)
+    out.V.row(Eigen::Index(i)) << r.quads.positions[i].x, r.quads.positions[i].y,
+        r.quads.positions[i].z;
+  out.Q.resize(Eigen::Index(r.quads.num_faces()), 4);
+  out.patch.resize(Eigen::Index(r.quads.num_faces()));
+  for (std::size_t f = 0; f < r.quads.num_faces(); ++f) {
+    for (int k = 0; k < 4; ++k) out.Q(Eigen::Index(f), k) = int(r.quads.face(f)[k]);
+    out.patch(Eigen::Index(f)) = r.quads.face_group[f];
+  }
+  out.report = r.report;
+  return out;
+}
+
+}  // namespace isoquad

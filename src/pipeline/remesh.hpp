@@ -1,0 +1,22 @@
+// The whole method on a polygon mesh, with progress and a JSON report: shared by the command
+// line and the Eigen entry point (isoquad/remesh.hpp).
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "core/poly_mesh.hpp"
+#include "isoquad/remesh.hpp"
+
+namespace isoquad {
+
+struct PolyRemesh {
+  PolyMesh quads;      // face_group: patch id
+  std::string report;  // JSON
+};
+
+PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& options,
+                           bool unshared_vertices = false,
+                           const std::function<void(const std::string&)>& progress = {});
+
+}  // namespace isoquad

@@ -1,0 +1,176 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "extract/extract.hpp"
+#include "isoquad/error.hpp"
+#include "isoquad/remesh.hpp"
+#include "metrics/quality.hpp"
+#include "pipeline/pipeline.hpp"
+#include "prep/prepare.hpp"
+#include "shapes.hpp"
+
+using namespace isoquad;
+
+namespace {
+
+struct Remeshed {
+  PreparedMesh prep;
+  ComponentRun run;
+  PolyMesh quads;
+};
+
+Remeshed remesh_shape(const PolyMesh& m, uint32_t k, double quads,
+                      WeightKind weights = WeightKind::smvc) {
+  Remeshed r{prepare(m), {}, {}};
+  PipelineOptions o;
+  o.param.weights = weights;
+  o.patches = k;
+  o.quads = quads;
+  r.run = run_component(r.prep, 0, o);
+  r.quads = merge_quads(r.prep, {r.run});
+  return r;
+}
+
+PolyMesh component_as_poly(const TriMesh& t) {
+  PolyMesh p;
+  p.positions = t.positions();
+  for (const Tri& f : t.faces()) p.add_face({f[0], f[1], f[2]});
+  return p;
+}
+
+}  // namespace
+
+TEST(Extract, CubeIsSixRegularGrids) {
+  // Mean value weights reproduce the flat faces exactly: every quad a square.
+  const Remeshed r = remesh_shape(test::subdivided_cube(8), 6, 6 * 36, WeightKind::mvc);
+  ASSERT_EQ(r.run.seg.num_patches, 6u);
+  const int64_t n = r.run.layout.charts[0].width;
+  EXPECT_EQ(r.quads.num_faces(), std::size_t(6 * n * n));
+  EXPECT_EQ(r.quads.num_vertices(), std::size_t(6 * n * n + 2));
+  const QualityReport q = measure_quality(r.quads, nullptr);
+  EXPECT_TRUE(q.pure_quad);
+  EXPECT_GT(q.sj_min, 1 - 1e-9);
+  EXPECT_EQ(q.irregular, 8u);  // the cube's corners, valence 3
+  EXPECT_EQ(q.valence.at(3), 8u);
+}
+
+TEST(Extract, CountsTopologyAndValencesFollowTheLayout) {
+  const std::pair<const char*, PolyMesh> shapes[] = {{"torus", test::torus(48, 20)},
+                                                     {"plate_with_hole", test::plate_with_hole(30)},
+                                                     {"cylinder", test::open_cylinder(40, 16)},
+                                                     {"sphere", test::icosphere(4)}};
+  for (const auto& [name, mesh] : shapes) {
+    SCOPED_TRACE(name);
+    const Remeshed r = remesh_shape(mesh, 0, 600);
+    const Layout& l = r.run.layout;
+    const MetaMesh& mm = r.run.seg.meta;
+    uint64_t nv = mm.vertices.size(), nq = 0;
+    for (const Chart& c : l.charts) nv += (c.width - 1) * (c.height - 1), nq += c.width * c.height;
+    for (const int64_t x : l.length) nv += x - 1;
+    EXPECT_EQ(r.quads.num_vertices(), nv);
+    EXPECT_EQ(r.quads.num_faces(), nq);
+    const PolyMesh input = component_as_poly(r.prep.components[0].mesh);
+    const QualityReport q = measure_quality(r.quads, &input);
+    EXPECT_TRUE(q.pure_quad);
+    EXPECT_TRUE(q.edge_manifold);
+    EXPECT_TRUE(q.vertex_manifold);
+    EXPECT_TRUE(q.oriented);
+    EXPECT_TRUE(q.same_topology);
+    // Interior valences: a_v at the meta-vertices, 4 everywhere else.
+    std::map<int, uint32_t> expected;
+    uint32_t interior = 0;
+    for (uint32_t v = 0; v < mm.vertices.size(); ++v)
+      if (!mm.vertices[v].on_boundary) ++expected[l.quarter_turns[v]], ++interior;
+    uint32_t total = 0;
+    for (const auto& [k, n] : q.valence) total += n;
+    expected[4] += total - interior;
+    std::erase_if(expected, [](const auto& e) { return e.second == 0; });
+    EXPECT_EQ(q.valence, expected);
+  }
+}
+
+TEST(Extract, EveryVertexIsOnTheInputSurface) {
+  const Remeshed r = remesh_shape(test::torus(48, 20), 0, 600);
+  const TriMesh& base = r.prep.components[0].mesh;
+  const QuadMesh& qm = r.run.quads;
+  ASSERT_EQ(qm.surface.size(), qm.positions.size());
+  for (std::size_t v = 0; v < qm.positions.size(); ++v) {
+    const SurfacePoint& s = qm.surface[v];
+    ASSERT_LT(s.face, base.num_faces());
+    double sum = 0;
+    for (const double b : s.bary) {
+      EXPECT_GE(b, -1e-12);
+      sum += b;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+    const Tri& t = base.face(s.face);
+    const Vec3 p = s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
+                   s.bary[2] * base.position(t[2]);
+    EXPECT_LT(norm(p - qm.positions[v]), 1e-12);
+  }
+}
+
+TEST(Quality, DetectsFlipsNonManifoldEdgesAndDistance) {
+  PolyMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 1, 0}};
+  m.add_face({0, 1, 2, 3});
+  m.add_face({1, 4, 5, 2});
+  QualityReport q = measure_quality(m, &m);
+  EXPECT_TRUE(q.pure_quad);
+  EXPECT_TRUE(q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_EQ(q.topology.euler, 1);
+  EXPECT_EQ(q.topology.boundary_loops, 1u);
+  EXPECT_NEAR(q.sj_min, 1.0, 1e-12);
+  EXPECT_NEAR(q.hausdorff, 0.0, 1e-12);
+  // A bow-tie quad: its corners alternate orientation.
+  PolyMesh bow = m;
+  bow.positions[2] = {1, 1, 0};
+  bow.positions[5] = {1.5, -1, 0};
+  bow.positions[4] = {2, 1, 0};
+  q = measure_quality(bow, nullptr);
+  EXPECT_EQ(q.sj_nonpositive, 1u);
+  // A third face on edge 1-2: not manifold.
+  PolyMesh fin = m;
+  fin.positions.push_back({1, 0, 1});
+  fin.positions.push_back({1, 1, 1});
+  fin.add_face({1, 2, 7, 6});
+  q = measure_quality(fin, nullptr);
+  EXPECT_FALSE(q.edge_manifold);
+  // A copy shifted by 0.1 along z: one-sided distances 0.1 everywhere.
+  PolyMesh shifted = m;
+  for (Vec3& p : shifted.positions) p.z += 0.1;
+  q = measure_quality(shifted, &m);
+  EXPECT_NEAR(q.hausdorff * std::sqrt(5.0), 0.1, 1e-9);  // diagonal of 2 x 1 x 0 box
+  EXPECT_NEAR(q.mean_distance * std::sqrt(5.0), 0.1, 1e-9);
+}
+
+TEST(Remesh, EigenEntryPoint) {
+  const PolyMesh s = test::icosphere(3);
+  Eigen::MatrixXd V(Eigen::Index(s.num_vertices()), 3);
+  Eigen::MatrixXi F(Eigen::Index(s.num_faces()), 3);
+  for (std::size_t i = 0; i < s.num_vertices(); ++i)
+    V.row(Eigen::Index(i)) << s.positions[i].x, s.positions[i].y, s.positions[i].z;
+  for (std::size_t f = 0; f < s.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) F(Eigen::Index(f), k) = int(s.face(f)[k]);
+  RemeshOptions o;
+  o.quads = 400;
+  const RemeshResult r = remesh(V, F, o);
+  ASSERT_EQ(r.Q.cols(), 4);
+  EXPECT_EQ(r.patch.size(), r.Q.rows());
+  EXPECT_GT(r.Q.rows(), 300);
+  EXPECT_EQ(r.Q.minCoeff(), 0);
+  EXPECT_EQ(r.Q.maxCoeff(), r.V.rows() - 1);
+  // Euler characteristic of the quads: V - E + F = 2 with E = 2F for a closed quad mesh.
+  EXPECT_EQ(r.V.rows() - r.Q.rows(), 2);
+  EXPECT_NE(r.report.find("\"pure_quad\": true"), std::string::npos);
+  F(0, 1) = int(V.rows());  // out of range
+  try {
+    remesh(V, F, o);
+    ADD_FAILURE() << "accepted a bad index";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), "E020");
+    EXPECT_EQ(e.context().faces, std::vector<uint32_t>{0});
+  }
+}
