@@ -108,11 +108,14 @@ RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   for (Eigen::Index i = 0; i < V.rows(); ++i) m.positions[i] = {V(i, 0), V(i, 1), V(i, 2)};
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (int k = 0; k < 3; ++k)
-      if (F(f, k) < 0 || F(f, k) >= V.rows())
+      if (F(f, k) < 0 || F(f, k) >= V.rows()) {
+        ErrorContext where;
+        where.faces = {uint32_t(f)};
         throw Error(
             ErrorKind::invalid_input, "E020",
             fmt::format("face {} refers to vertex {}, but V has {} rows", f, F(f, k), V.rows()),
-            {.faces = {uint32_t(f)}});
+            where);
+      }
     m.add_face({uint32_t(F(f, 0)), uint32_t(F(f, 1)), uint32_t(F(f, 2))});
   }
   const PolyRemesh r = remesh_polymesh(m, options);
