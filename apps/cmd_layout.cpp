@@ -18,7 +18,7 @@ namespace {
 struct LayoutArgs {
   std::string mesh, corners = "global", ilp = "cbc";
   PatchArgs patch;
-  bool json = false;
+  bool json = false, improve_corners = false;
   PrepArgs prep;
 };
 }  // namespace
@@ -38,6 +38,8 @@ Runner add_layout(CLI::App& app) {
                   "network matrix, CBC otherwise)")
       ->check(CLI::IsMember({"cbc", "flow"}))
       ->capture_default_str();
+  sub->add_flag("--improve-corners", a->improve_corners,
+                "Refine the corners patch by patch against the relaxed length program");
   sub->add_flag("--json", a->json, "Print the full layout as JSON");
   add_prep_options(*sub, a->prep);
   return [a] {
@@ -54,6 +56,7 @@ Runner add_layout(CLI::App& app) {
       LayoutOptions lo;
       lo.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;
       lo.length_solver = a->ilp == "flow" ? LengthSolver::flow : LengthSolver::cbc;
+      lo.improve_corners = a->improve_corners;
       if (a->patch.edge_length > 0)
         lo.edge_length = h;
       else

@@ -18,7 +18,8 @@ namespace {
 struct RemeshArgs {
   std::string input, output, weights = "smvc", relax = "adaptive", corners = "global";
   PatchArgs patch;
-  bool json = false, quiet = false;
+  bool json = false, quiet = false, improve_corners = false;
+  uint32_t smooth = 0;
   PrepArgs prep;
 };
 
@@ -38,6 +39,13 @@ Runner add_remesh(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--corners", a->corners, "Corner choice: global or local (the paper's)")
       ->check(CLI::IsMember({"global", "local"}))
+      ->capture_default_str();
+  sub->add_flag("--improve-corners", a->improve_corners,
+                "Refine the corners patch by patch against the relaxed length program (less "
+                "stretched quads, seconds more)");
+  sub->add_option("--smooth", a->smooth,
+                  "Tangential smoothing iterations after extraction, vertices kept on the input "
+                  "surface (default 0: the map's lattice points as they are)")
       ->capture_default_str();
   sub->add_flag("--json", a->json, "Print the run and quality report as JSON");
   sub->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
@@ -60,6 +68,8 @@ Runner add_remesh(CLI::App& app) {
     o.local_corners = a->corners == "local";
     o.feature_angle_deg = a->prep.feature_angle;
     o.repair = a->prep.repair;
+    o.smooth = a->smooth;
+    o.improve_corners = a->improve_corners;
     o.quality = a->json;
     const PolyRemesh r = remesh_polymesh(read.mesh, o, read.unshared_vertices, say);
     write_mesh(a->output, r.quads);

@@ -22,8 +22,10 @@ struct RemeshOptions {
   bool paper_weights = false;      // Floater's mean value weights (default: symmetrized, SPD)
   std::string relax = "adaptive";  // adaptive, bisection or locked
   bool local_corners = false;      // the paper's per-patch corner choice
+  bool improve_corners = false;    // refine corners against the relaxed length program (slower)
   double feature_angle_deg = 60;   // dihedral angle above which edges are creases (0: none)
   bool repair = false;             // detach non-manifold edges, drop degenerate faces
+  uint32_t smooth = 0;             // tangential smoothing iterations on the surface
   bool quality = true;             // measure the output against the input (in `report`)
 };
 

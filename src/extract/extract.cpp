@@ -159,6 +159,10 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
   const auto any = [](uint32_t) { return true; };
   out.surface.resize(next);
   out.vertex_meta_vertex.assign(next, kInvalid);
+  out.placed.assign(next, QuadMesh::Placed::meta);
+  out.vertex_meta_edge.assign(next, kInvalid);
+  for (uint32_t id = uint32_t(meta.vertices.size()); id < next; ++id)
+    out.vertex_meta_edge[id] = rep[id].edge;
   for (uint32_t id = 0; id < next; ++id) {
     if (id < meta.vertices.size()) {
       out.surface[id] = refined.vertex_origin(meta.vertices[id].vertex);
@@ -170,6 +174,7 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
     const UV q{double(r.at[0]), double(r.at[1])};
     if (auto hit = relaxed[r.patch].locate(q, any)) {
       out.surface[id] = surface_point(hit->first, hit->second);
+      out.placed[id] = QuadMesh::Placed::direct;
       ++report.direct;
       continue;
     }
@@ -195,6 +200,7 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
       const UV qo = apply(t, q);
       if (auto hit = relaxed[other].locate(qo, any)) {
         out.surface[id] = surface_point(hit->first, hit->second);
+        out.placed[id] = QuadMesh::Placed::across;
         ++report.across;
         found = true;
       }
@@ -202,6 +208,7 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
     if (found) continue;
     if (auto hit = locked[r.patch].locate(q, any)) {
       out.surface[id] = surface_point(hit->first, hit->second);
+      out.placed[id] = QuadMesh::Placed::locked;
       ++report.locked;
       continue;
     }

@@ -23,6 +23,9 @@ struct QuadMesh {
   std::vector<std::array<uint32_t, 4>> quads;  // CCW seen from outside
   std::vector<uint32_t> quad_patch;
   std::vector<uint32_t> vertex_meta_vertex;  // per vertex: meta-vertex or kInvalid
+  std::vector<uint32_t> vertex_meta_edge;    // per vertex: meta-edge it lies on, or kInvalid
+  enum class Placed : uint8_t { meta, direct, across, locked };
+  std::vector<Placed> placed;  // how each vertex was located
 };
 
 struct ExtractReport {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -87,6 +88,80 @@ bool insert_on_zero_edges(const TriMesh& mesh, const FaceData<uint32_t>& labels,
   return true;
 }
 
+// Local improvement of the corners (beyond the paper): per patch, each of its best candidates
+// is tried in place of its corners, and the change is kept when the LP relaxation of the length
+// program plus the corner and valence costs drops. The corner ILP sees the side lengths of each
+// patch alone; this sees how the side equations of all patches interact. Deterministic (fixed
+// order, strict improvement) and bounded by two sweeps.
+void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
+                     const LayoutOptions& o, const std::vector<double>& targets, Feasible& f,
+                     LayoutReport& report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint32_t np = uint32_t(meta.faces.size());
+  const auto all = corner_candidates(mesh, labels, meta, o.angle_weight, 0);
+  auto cost_of = [&](uint32_t p, const std::array<uint32_t, 4>& c) -> double {
+    std::array<uint32_t, 4> s = c;
+    std::sort(s.begin(), s.end());
+    for (const CornerCandidate& k : all[p])
+      if (k.items == s) return k.cost;
+    return INFINITY;
+  };
+  std::vector<int> tau(meta.vertices.size());
+  for (uint32_t v = 0; v < tau.size(); ++v) tau[v] = regular_quarter_turns(mesh, meta, v);
+  auto total = [&](const std::vector<std::array<uint32_t, 4>>& corners, double lp) -> double {
+    double t = lp;
+    for (uint32_t p = 0; p < np; ++p) t += cost_of(p, corners[p]);
+    const std::vector<int> a = quarter_turns(meta, corners);
+    for (uint32_t v = 0; v < a.size(); ++v) {
+      const bool b = meta.vertices[v].on_boundary;
+      if (a[v] < (b ? 1 : 3) || a[v] > (b ? 4 : 6)) return INFINITY;
+      t += o.valence_weight * std::abs(a[v] - tau[v]);
+    }
+    return t;
+  };
+  std::vector<std::array<uint32_t, 4>> corners = f.corners.corners;
+  double best = total(corners, relaxed_length_objective(targets, f.rows));
+  if (!std::isfinite(best)) return;
+  uint32_t changed = 0;
+  for (int sweep = 0; sweep < 2; ++sweep) {
+    bool any = false;
+    for (uint32_t p = 0; p < np; ++p) {
+      const uint32_t tries = std::min<uint32_t>(o.candidates_per_patch, uint32_t(all[p].size()));
+      for (uint32_t c = 0; c < tries; ++c) {
+        std::array<uint32_t, 4> old = corners[p];
+        std::array<uint32_t, 4> sorted_old = old;
+        std::sort(sorted_old.begin(), sorted_old.end());
+        if (all[p][c].items == sorted_old) continue;
+        corners[p] = all[p][c].items;
+        if (!std::isfinite(total(corners, 0))) {
+          corners[p] = old;
+          continue;
+        }
+        const auto rows = side_equations(meta, item_sides(meta, corners));
+        const double t = total(corners, relaxed_length_objective(targets, rows));
+        if (t < best - 1e-9) {
+          best = t;
+          any = true;
+          ++changed;
+        } else {
+          corners[p] = old;
+        }
+      }
+    }
+    if (!any) break;
+  }
+  if (changed > 0) {
+    f.corners.corners = corners;
+    f.corners.quarter_turns = quarter_turns(meta, corners);
+    f.sides = item_sides(meta, corners);
+    f.rows = side_equations(meta, f.sides);
+    report.repairs.push_back(
+        fmt::format("corners of {} patches improved for the lengths", changed));
+  }
+  report.corner_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 }  // namespace
 
 Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
@@ -102,11 +177,16 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
     throw Error(ErrorKind::layout, "E402",
                 "no corner assignment or meta-vertex insertion makes the integer lengths feasible");
 
-  Layout layout;
-  layout.quarter_turns = f->corners.quarter_turns;
   const bool by_count = o.edge_length <= 0;
   const double wanted = o.quads > 0 ? o.quads : default_quad_count(mesh);
   double h = by_count ? edge_length_for_quads(mesh, wanted) : o.edge_length;
+  if (o.improve_corners) {
+    std::vector<double> targets(meta.edges.size());
+    for (uint32_t e = 0; e < targets.size(); ++e) targets[e] = meta.edges[e].geodesic / h;
+    improve_corners(mesh, labels, meta, o, targets, *f, report);
+  }
+  Layout layout;
+  layout.quarter_turns = f->corners.quarter_turns;
   // Tune h so that the quad count lands near the request: area scales with 1/h^2.
   Lengths best;
   double best_h = h, best_miss = INFINITY;

@@ -80,13 +80,13 @@ Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
 }
 
 namespace {
-MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows,
-                      double time_limit, bool bounded) {
+MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideRow>& rows,
+                           bool bounded, bool integer) {
   const uint32_t n = uint32_t(c.size());
   MilpProblem ilp;
   for (uint32_t e = 0; e < n;
        ++e)  // x_e; the bound keeps the search small, and is dropped if it bites
-    ilp.add_column(0, 1, bounded ? std::max(4 * c[e], c[e] + 20) : MilpProblem::kInf, true);
+    ilp.add_column(0, 1, bounded ? std::max(4 * c[e], c[e] + 20) : MilpProblem::kInf, integer);
   std::vector<uint32_t> t(n);
   for (uint32_t e = 0; e < n; ++e) {
     t[e] = ilp.add_column(1.0 / std::max(c[e], 1.0), 0, MilpProblem::kInf, false);
@@ -99,9 +99,20 @@ MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& 
     row.lo = row.hi = 0;
     ilp.add_row(std::move(row));
   }
-  return solve_milp(ilp, time_limit);
+  return ilp;
 }
+
+MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows,
+                      double time_limit, bool bounded) {
+  return solve_milp(length_problem(c, rows, bounded, true), time_limit);
+}
+
 }  // namespace
+
+double relaxed_length_objective(const std::vector<double>& c, const std::vector<SideRow>& rows) {
+  const MilpResult r = solve_lp(length_problem(c, rows, false, false));
+  return r.found() ? r.objective : INFINITY;
+}
 
 Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& rows,
                       double time_limit) {

@@ -30,6 +30,11 @@ struct Feasibility {
 };
 Feasibility check_feasibility(uint32_t num_edges, const std::vector<SideRow>& rows);
 
+// The LP relaxation of the length program: its optimum (sum w_e |x_e - c_e| over real x >= 1),
+// or +infinity when the side equations admit no positive lengths.
+double relaxed_length_objective(const std::vector<double>& target,
+                                const std::vector<SideRow>& rows);
+
 struct Lengths {
   std::vector<int64_t> x;
   double objective = 0;  // sum w_e |x_e - c_e|

@@ -48,6 +48,7 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   t0 = Clock::now();
   run.quads = extract_quads(run.seg.refined, comp.mesh, run.seg.labels, run.seg.meta, run.layout,
                             run.param, run.extract_report);
+  if (o.smooth > 0) smooth_quads(run.quads, comp.mesh, run.seg.meta, o.smooth, run.smooth_report);
   run.extract_seconds = seconds_since(t0);
   return run;
 }

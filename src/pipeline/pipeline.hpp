@@ -8,6 +8,7 @@
 
 #include "core/poly_mesh.hpp"
 #include "extract/extract.hpp"
+#include "extract/smooth.hpp"
 #include "layout/layout.hpp"
 #include "param/param.hpp"
 #include "prep/prepare.hpp"
@@ -24,6 +25,7 @@ struct PipelineOptions {
   uint64_t seed = 1;
   LayoutOptions layout;  // corners and length solver (size fields are set per component)
   ParamOptions param;
+  uint32_t smooth = 0;  // tangential smoothing iterations after extraction
   Stage last = Stage::extract;
 };
 
@@ -37,6 +39,7 @@ struct ComponentRun {
   ParamReport param_report;
   QuadMesh quads;
   ExtractReport extract_report;
+  SmoothReport smooth_report;
   double segment_seconds = 0, layout_seconds = 0, param_seconds = 0, extract_seconds = 0;
 };
 

@@ -43,7 +43,9 @@ PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool
   o.edge_length = opt.edge_length;
   o.quads = opt.quads;
   o.seed = opt.seed;
+  o.smooth = opt.smooth;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
+  o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;
   o.param.relax = opt.relax == "bisection" ? RelaxMode::bisection
                   : opt.relax == "locked"  ? RelaxMode::locked
@@ -72,6 +74,10 @@ PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool
                      {"factorizations", r.param_report.factorizations},
                      {"flipped_unstiffened", r.param_report.flipped_unstiffened},
                      {"locked_meta_edges", r.param_report.locked_meta_edges},
+                     {"smoothing",
+                      {{"iterations", r.smooth_report.iterations},
+                       {"moves", r.smooth_report.moves},
+                       {"rejected", r.smooth_report.rejected}}},
                      {"fell_back_to_locked", r.param_report.fell_back_to_locked},
                      {"lattice_points",
                       {{"direct", r.extract_report.direct},

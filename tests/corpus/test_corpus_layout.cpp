@@ -62,3 +62,29 @@ INSTANTIATE_TEST_SUITE_P(Corpus, CorpusLayout,
                            return test::corpus_case_name(std::get<0>(info.param),
                                                          std::get<1>(info.param));
                          });
+
+// The corner refinement against the relaxed length program keeps layouts valid and lowers the
+// length objective where the per-patch corner choice fights the side equations.
+TEST(CorpusLayoutImprove, CornersRefinedAgainstTheLengths) {
+  for (const char* file : {"fandisk.off", "cow.off"}) {
+    SCOPED_TRACE(file);
+    ISOQUAD_CORPUS_MESH(path, file);
+    const PreparedMesh p = prepare(read_mesh(path).mesh);
+    const PreparedComponent& c = p.components.at(0);
+    const SegmentOptions so = SegmentOptions::sized(edge_length_for_quads(c.mesh, 1500));
+    const SegmentResult seg = segment(c.mesh, c.feature, so);
+    double objective[2];
+    for (const bool improve : {false, true}) {
+      LayoutOptions lo;
+      lo.quads = 1500;
+      lo.improve_corners = improve;
+      LayoutReport report;
+      MetaMesh meta = seg.meta;
+      const Layout l = solve_layout(seg.refined.mesh, seg.labels, seg.feature, meta, lo, report);
+      test::expect_valid_layout(meta, l);
+      EXPECT_TRUE(report.length_optimal);
+      objective[improve] = l.objective;
+    }
+    EXPECT_LT(objective[1], 0.8 * objective[0]);
+  }
+}

@@ -174,3 +174,33 @@ TEST(Remesh, EigenEntryPoint) {
     EXPECT_EQ(e.context().faces, std::vector<uint32_t>{0});
   }
 }
+
+TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {
+  const Remeshed r = remesh_shape(test::torus(48, 20), 0, 600);
+  QuadMesh q = r.run.quads;
+  const TriMesh& base = r.prep.components[0].mesh;
+  auto folded = [](const QuadMesh& m) {
+    PolyMesh p;
+    p.positions = m.positions;
+    for (const auto& f : m.quads) p.add_face({f[0], f[1], f[2], f[3]});
+    return measure_quality(p, nullptr);
+  };
+  const QualityReport before = folded(q);
+  SmoothReport report;
+  smooth_quads(q, base, r.run.seg.meta, 10, report);
+  const QualityReport after = folded(q);
+  EXPECT_EQ(report.iterations, 10u);
+  EXPECT_GT(report.moves, 0u);
+  EXPECT_LE(after.sj_nonpositive, before.sj_nonpositive);
+  EXPECT_GE(after.sj_mean, before.sj_mean - 1e-3);
+  for (std::size_t v = 0; v < q.positions.size(); ++v) {
+    const SurfacePoint& s = q.surface[v];
+    const Tri& t = base.face(s.face);
+    const Vec3 p = s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
+                   s.bary[2] * base.position(t[2]);
+    EXPECT_LT(norm(p - q.positions[v]), 1e-12);
+    if (q.vertex_meta_vertex[v] != kInvalid) {
+      EXPECT_EQ(q.positions[v], r.run.quads.positions[v]);
+    }
+  }
+}

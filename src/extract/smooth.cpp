@@ -1,0 +1,128 @@
+#include "extract/smooth.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "metrics/aabb_tree.hpp"
+
+namespace isoquad {
+
+namespace {
+
+// Barycentric coordinates of a point q lying in the plane of triangle (a, b, c).
+std::array<double, 3> barycentric(const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 v0 = b - a, v1 = c - a, v2 = q - a;
+  const double d00 = dot(v0, v0), d01 = dot(v0, v1), d11 = dot(v1, v1), d20 = dot(v2, v0),
+               d21 = dot(v2, v1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(std::fabs(den) > 0)) return {1, 0, 0};
+  const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+  return {std::max(0.0, 1 - v - w), std::max(0.0, v), std::max(0.0, w)};
+}
+
+// Closest surface point to p, by descent over vertex-adjacent faces from `start`.
+SurfacePoint project_locally(const TriMesh& base, uint32_t start, const Vec3& p) {
+  auto dist = [&](uint32_t f, Vec3& q) {
+    const Tri& t = base.face(f);
+    q = closest_point_on_triangle(p, base.position(t[0]), base.position(t[1]), base.position(t[2]));
+    return squared_norm(q - p);
+  };
+  Vec3 best_q;
+  uint32_t best = start;
+  double best_d = dist(start, best_q);
+  for (int step = 0; step < 10000; ++step) {
+    uint32_t next = best;
+    for (const uint32_t v : base.face(best))
+      base.for_each_outgoing(v, [&](uint32_t h) {
+        const uint32_t f = TriMesh::face_of(h);
+        Vec3 q;
+        const double d = dist(f, q);
+        if (d < best_d || (d == best_d && f < next && next != best)) {
+          best_d = d;
+          best_q = q;
+          next = f;
+        }
+      });
+    if (next == best) break;
+    best = next;
+  }
+  const Tri& t = base.face(best);
+  return {best, barycentric(best_q, base.position(t[0]), base.position(t[1]), base.position(t[2]))};
+}
+
+Vec3 position_of(const TriMesh& base, const SurfacePoint& s) {
+  const Tri& t = base.face(s.face);
+  return s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
+         s.bary[2] * base.position(t[2]);
+}
+
+double quad_sj(const std::vector<Vec3>& x, const std::array<uint32_t, 4>& q) {
+  Vec3 n;
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 &a = x[q[i]], &b = x[q[(i + 1) % 4]];
+    n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+  }
+  n = normalized(n);
+  double sj = 1;
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 e1 = x[q[(i + 1) % 4]] - x[q[i]], e2 = x[q[(i + 3) % 4]] - x[q[i]];
+    const double l = norm(e1) * norm(e2);
+    sj = std::min(sj, l > 0 ? dot(n, cross(e1, e2)) / l : 0.0);
+  }
+  return sj;
+}
+
+}  // namespace
+
+void smooth_quads(QuadMesh& qm, const TriMesh& base, const MetaMesh& meta, uint32_t iterations,
+                  SmoothReport& report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint32_t n = uint32_t(qm.positions.size());
+  std::vector<char> fixed(n, 0);
+  for (uint32_t v = 0; v < n; ++v) {
+    const uint32_t e = qm.vertex_meta_edge[v];
+    fixed[v] = qm.vertex_meta_vertex[v] != kInvalid ||
+               (e != kInvalid && (meta.edges[e].feature || meta.edges[e].right == kInvalid));
+  }
+  std::vector<std::vector<uint32_t>> nbr(n), around(n);
+  for (uint32_t f = 0; f < qm.quads.size(); ++f)
+    for (int i = 0; i < 4; ++i) {
+      const uint32_t a = qm.quads[f][i], b = qm.quads[f][(i + 1) % 4];
+      nbr[a].push_back(b);
+      nbr[b].push_back(a);
+      around[a].push_back(f);
+    }
+  for (auto& l : nbr) {
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+  }
+  for (uint32_t it = 0; it < iterations; ++it) {
+    ++report.iterations;
+    for (uint32_t v = 0; v < n; ++v) {
+      if (fixed[v] || nbr[v].empty()) continue;
+      Vec3 avg;
+      for (const uint32_t w : nbr[v]) avg += qm.positions[w];
+      avg = avg / double(nbr[v].size());
+      double before = 1;
+      for (const uint32_t f : around[v])
+        before = std::min(before, quad_sj(qm.positions, qm.quads[f]));
+      const SurfacePoint s = project_locally(base, qm.surface[v].face, avg);
+      const Vec3 old = qm.positions[v];
+      qm.positions[v] = position_of(base, s);
+      double after = 1;
+      for (const uint32_t f : around[v])
+        after = std::min(after, quad_sj(qm.positions, qm.quads[f]));
+      if (after >= std::min(before, 0.2)) {
+        qm.surface[v] = s;
+        ++report.moves;
+      } else {
+        qm.positions[v] = old;
+        ++report.rejected;
+      }
+    }
+  }
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace isoquad
