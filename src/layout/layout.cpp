@@ -11,6 +11,7 @@
 #include "layout/charts.hpp"
 #include "layout/corners.hpp"
 #include "layout/flow.hpp"
+#include "layout/milp.hpp"
 #include "layout/quantize.hpp"
 #include "pipeline/sizing.hpp"
 #include "seg/segment.hpp"
@@ -120,7 +121,29 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
     return t;
   };
   std::vector<std::array<uint32_t, 4>> corners = f.corners.corners;
-  double best = total(corners, relaxed_length_objective(targets, f.rows));
+  // One LP for all trials: changing a patch's corners only rewrites its two side rows.
+  const uint32_t n = uint32_t(meta.edges.size());
+  IncrementalLp lp(length_problem(targets, f.rows, false, false));
+  auto set_rows = [&](uint32_t p, const std::array<uint32_t, 4>& c) {
+    std::array<uint32_t, 4> sorted = c;
+    std::sort(sorted.begin(), sorted.end());
+    const MetaFace& face = meta.faces[p];
+    const uint32_t m = uint32_t(face.cycle.size());
+    // Side of each item: corners split the cycle into four runs; which run is side 0 does not
+    // matter for the rows (they are side 0 - side 2 and side 1 - side 3, up to sign).
+    for (uint32_t k = 0; k < 4; ++k)
+      for (uint32_t i = sorted[k]; i != sorted[(k + 1) % 4]; i = (i + 1) % m) {
+        const uint32_t e = face.cycle[i].edge;
+        const double sign = k < 2 ? 1 : -1;
+        lp.set_coefficient(2 * n + 2 * p + (k % 2), e, sign);
+        lp.set_coefficient(2 * n + 2 * p + 1 - (k % 2), e, 0);
+      }
+  };
+  auto lp_value = [&] {
+    const MilpResult r = lp.solve();
+    return r.found() ? r.objective : INFINITY;
+  };
+  double best = total(corners, lp_value());
   if (!std::isfinite(best)) return;
   uint32_t changed = 0;
   for (int sweep = 0; sweep < 2; ++sweep) {
@@ -128,7 +151,7 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
     for (uint32_t p = 0; p < np; ++p) {
       const uint32_t tries = std::min<uint32_t>(o.candidates_per_patch, uint32_t(all[p].size()));
       for (uint32_t c = 0; c < tries; ++c) {
-        std::array<uint32_t, 4> old = corners[p];
+        const std::array<uint32_t, 4> old = corners[p];
         std::array<uint32_t, 4> sorted_old = old;
         std::sort(sorted_old.begin(), sorted_old.end());
         if (all[p][c].items == sorted_old) continue;
@@ -137,14 +160,15 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
           corners[p] = old;
           continue;
         }
-        const auto rows = side_equations(meta, item_sides(meta, corners));
-        const double t = total(corners, relaxed_length_objective(targets, rows));
+        set_rows(p, corners[p]);
+        const double t = total(corners, lp_value());
         if (t < best - 1e-9) {
           best = t;
           any = true;
           ++changed;
         } else {
           corners[p] = old;
+          set_rows(p, old);
         }
       }
     }
@@ -187,23 +211,48 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
   }
   Layout layout;
   layout.quarter_turns = f->corners.quarter_turns;
+  uint32_t tiny = 0;
+  for (const MetaEdge& e : meta.edges) tiny += e.geodesic / h < 0.5;
+  if (4 * tiny > meta.edges.size())
+    throw Error(ErrorKind::layout, "E501",
+                fmt::format("target edge length too large: {} of {} meta-edges are shorter than "
+                            "half of it; use a smaller --edge-length, more --quads or fewer "
+                            "--patches",
+                            tiny, meta.edges.size()));
+  // Pre-tune h on the LP relaxation (milliseconds per round), so that the integer program
+  // usually runs once: the relaxed quad count sum W H follows the integer one closely.
+  if (by_count) {
+    // Where x >= 1 keeps the count above the request whatever h is, h must not run away: the
+    // search stays within a factor 4 of the area estimate and stops when the count stalls.
+    const double h0 = h;
+    double lo_h = 0, hi_h = INFINITY, last_q = INFINITY;
+    for (int round = 0; round < 12; ++round) {
+      std::vector<double> c(meta.edges.size());
+      for (uint32_t e = 0; e < c.size(); ++e) c[e] = meta.edges[e].geodesic / h;
+      const MilpResult r = solve_lp(length_problem(c, f->rows, false, false));
+      report.length_seconds += r.seconds;
+      if (!r.found()) break;
+      double q = 0;
+      for (uint32_t p = 0; p < meta.faces.size(); ++p) {
+        double side[2] = {0, 0};
+        for (uint32_t i = 0; i < meta.faces[p].cycle.size(); ++i)
+          if (f->sides[p][i] < 2) side[f->sides[p][i]] += r.x[meta.faces[p].cycle[i].edge];
+        q += side[0] * side[1];
+      }
+      if (std::fabs(q - wanted) <= 0.005 * wanted || std::fabs(q - last_q) <= 0.005 * q) break;
+      last_q = q;
+      (q > wanted ? lo_h : hi_h) = h;
+      h = lo_h > 0 && hi_h < INFINITY ? std::sqrt(lo_h * hi_h) : h * std::sqrt(q / wanted);
+      h = std::clamp(h, h0 / 4, h0 * 4);
+    }
+  }
   // Tune h so that the quad count lands near the request: area scales with 1/h^2.
   Lengths best;
   double best_h = h, best_miss = INFINITY;
   double h_small = 0, h_large = INFINITY;  // bracket: too many quads at h_small, too few at h_large
   for (int round = 0; round < (by_count ? 8 : 1); ++round) {
     std::vector<double> c(meta.edges.size());
-    uint32_t tiny = 0;
-    for (uint32_t e = 0; e < c.size(); ++e) {
-      c[e] = meta.edges[e].geodesic / h;
-      tiny += c[e] < 0.5;
-    }
-    if (round == 0 && 4 * tiny > c.size())
-      throw Error(ErrorKind::layout, "E501",
-                  fmt::format("target edge length too large: {} of {} meta-edges are shorter than "
-                              "half of it; use a "
-                              "smaller --edge-length, more --quads or fewer --patches",
-                              tiny, c.size()));
+    for (uint32_t e = 0; e < c.size(); ++e) c[e] = meta.edges[e].geodesic / h;
     std::optional<Lengths> flow;
     if (o.length_solver == LengthSolver::flow) flow = solve_lengths_flow(c, f->rows);
     Lengths l = flow ? *flow : solve_lengths(c, f->rows, o.time_limit);

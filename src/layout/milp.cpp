@@ -107,4 +107,42 @@ MilpResult solve_lp(const MilpProblem& p) {
   return r;
 }
 
+struct IncrementalLp::Impl {
+  OsiClpSolverInterface solver;
+  std::size_t columns = 0;
+  bool solved = false;
+};
+
+IncrementalLp::IncrementalLp(const MilpProblem& p) : impl_(std::make_unique<Impl>()) {
+  load(impl_->solver, p);
+  impl_->columns = p.objective.size();
+}
+
+IncrementalLp::~IncrementalLp() = default;
+
+void IncrementalLp::set_coefficient(uint32_t row, uint32_t column, double value) {
+  impl_->solver.getModelPtr()->modifyCoefficient(int(row), int(column), value, true);
+}
+
+MilpResult IncrementalLp::solve() {
+  const auto t0 = std::chrono::steady_clock::now();
+  OsiClpSolverInterface& solver = impl_->solver;
+  if (impl_->solved)
+    solver.resolve();
+  else
+    solver.initialSolve();
+  impl_->solved = true;
+  MilpResult r;
+  r.seconds = since(t0);
+  if (solver.isProvenOptimal()) {
+    r.x.assign(solver.getColSolution(), solver.getColSolution() + impl_->columns);
+    r.objective = solver.getObjValue();
+    r.status = MilpResult::Status::optimal;
+  } else {
+    r.status = solver.isProvenPrimalInfeasible() ? MilpResult::Status::infeasible
+                                                 : MilpResult::Status::failed;
+  }
+  return r;
+}
+
 }  // namespace isoquad

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,5 +42,21 @@ MilpResult solve_milp(const MilpProblem& problem, double time_limit = 10.0,
                       double relative_gap = 0.0, int node_limit = 0);
 // The LP relaxation with Clp (integrality ignored).
 MilpResult solve_lp(const MilpProblem& problem);
+
+// An LP solved again and again after changing a few coefficients: Clp keeps its basis, so each
+// re-solve starts from the last optimum (a few pivots instead of a solve from scratch).
+class IncrementalLp {
+ public:
+  explicit IncrementalLp(const MilpProblem& problem);  // integrality ignored
+  ~IncrementalLp();
+  IncrementalLp(const IncrementalLp&) = delete;
+  IncrementalLp& operator=(const IncrementalLp&) = delete;
+  void set_coefficient(uint32_t row, uint32_t column, double value);
+  MilpResult solve();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace isoquad

@@ -79,7 +79,6 @@ Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
   return f;
 }
 
-namespace {
 MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideRow>& rows,
                            bool bounded, bool integer) {
   const uint32_t n = uint32_t(c.size());
@@ -101,6 +100,8 @@ MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideR
   }
   return ilp;
 }
+
+namespace {
 
 MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows,
                       double time_limit, bool bounded) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "layout/layout.hpp"
+#include "layout/milp.hpp"
 
 namespace isoquad {
 
@@ -34,6 +35,11 @@ Feasibility check_feasibility(uint32_t num_edges, const std::vector<SideRow>& ro
 // or +infinity when the side equations admit no positive lengths.
 double relaxed_length_objective(const std::vector<double>& target,
                                 const std::vector<SideRow>& rows);
+
+// The length program itself: columns x_e (e < n) then deviations t_e; rows 2e, 2e + 1 bound
+// t_e, then one row per side equation in the order of `rows` (row 2n + k for rows[k]).
+MilpProblem length_problem(const std::vector<double>& target, const std::vector<SideRow>& rows,
+                           bool bounded, bool integer);
 
 struct Lengths {
   std::vector<int64_t> x;
