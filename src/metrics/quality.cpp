@@ -39,6 +39,38 @@ Vec3 newell_normal(const PolyMesh& m, std::size_t f) {
   return normalized(n);
 }
 
+struct FaceShape {
+  double sj = INFINITY;          // against the face's Newell normal
+  double sj_surface = INFINITY;  // against the reference's normal at each corner
+  double angle_deviation_sum = 0, angle_deviation_max = 0;  // |corner angle - 90| in degrees
+};
+
+// The scaled Jacobian of face f: the minimum over its corners of n . (e1 x e2)/(|e1||e2|).
+FaceShape face_shape(const PolyMesh& m, std::size_t f, const AabbTree* reference) {
+  const auto vs = m.face(f);
+  const Vec3 n = newell_normal(m, f);
+  FaceShape s;
+  for (std::size_t i = 0; i < vs.size(); ++i) {
+    const Vec3& p = m.positions[vs[i]];
+    const Vec3 e1 = m.positions[vs[(i + 1) % vs.size()]] - p;
+    const Vec3 e2 = m.positions[vs[(i + vs.size() - 1) % vs.size()]] - p;
+    const double l = norm(e1) * norm(e2);
+    const Vec3 c = cross(e1, e2);
+    s.sj = std::min(s.sj, l > 0 ? dot(n, c) / l : 0.0);
+    if (reference) {
+      // The normal just inside the corner: at a vertex on a crease, the side the quad lies on.
+      const auto& t = reference->triangles()[reference->closest(p + 0.05 * (e1 + e2)).triangle];
+      const Vec3 rn = normalized(cross(t[1] - t[0], t[2] - t[0]));
+      s.sj_surface = std::min(s.sj_surface, l > 0 ? dot(rn, c) / l : 0.0);
+    }
+    const double angle =
+        l > 0 ? std::acos(std::clamp(dot(e1, e2) / l, -1.0, 1.0)) * 180 / std::numbers::pi : 0.0;
+    s.angle_deviation_sum += std::fabs(angle - 90);
+    s.angle_deviation_max = std::max(s.angle_deviation_max, std::fabs(angle - 90));
+  }
+  return s;
+}
+
 std::vector<std::array<Vec3, 3>> fan_triangles(const PolyMesh& m) {
   std::vector<std::array<Vec3, 3>> t;
   for (std::size_t f = 0; f < m.num_faces(); ++f) {
@@ -196,34 +228,17 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
   uint32_t below_half = 0, corners_seen = 0;
   q.sj_min = q.sj_surface_min = INFINITY;
   for (std::size_t f = 0; f < m.num_faces(); ++f) {
-    const auto vs = m.face(f);
-    const Vec3 n = newell_normal(m, f);
-    double sj = INFINITY, sj_surface = INFINITY;
-    for (std::size_t i = 0; i < vs.size(); ++i) {
-      const Vec3& p = m.positions[vs[i]];
-      const Vec3 e1 = m.positions[vs[(i + 1) % vs.size()]] - p;
-      const Vec3 e2 = m.positions[vs[(i + vs.size() - 1) % vs.size()]] - p;
-      const double l = norm(e1) * norm(e2);
-      const Vec3 c = cross(e1, e2);
-      sj = std::min(sj, l > 0 ? dot(n, c) / l : 0.0);
-      if (ref_tree) {
-        const auto& t = ref_tree->triangles()[ref_tree->closest(p).triangle];
-        const Vec3 rn = normalized(cross(t[1] - t[0], t[2] - t[0]));
-        sj_surface = std::min(sj_surface, l > 0 ? dot(rn, c) / l : 0.0);
-      }
-      const double angle =
-          l > 0 ? std::acos(std::clamp(dot(e1, e2) / l, -1.0, 1.0)) * 180 / std::numbers::pi : 0.0;
-      angle_sum += std::fabs(angle - 90);
-      q.angle_deviation_max = std::max(q.angle_deviation_max, std::fabs(angle - 90));
-      ++corners_seen;
-    }
-    q.sj_min = std::min(q.sj_min, sj);
-    sj_sum += sj;
-    below_half += sj < 0.5;
-    q.sj_nonpositive += sj <= 0;
+    const FaceShape s = face_shape(m, f, ref_tree ? &*ref_tree : nullptr);
+    angle_sum += s.angle_deviation_sum;
+    q.angle_deviation_max = std::max(q.angle_deviation_max, s.angle_deviation_max);
+    corners_seen += uint32_t(m.face(f).size());
+    q.sj_min = std::min(q.sj_min, s.sj);
+    sj_sum += s.sj;
+    below_half += s.sj < 0.5;
+    q.sj_nonpositive += s.sj <= 0;
     if (ref_tree) {
-      q.sj_surface_min = std::min(q.sj_surface_min, sj_surface);
-      q.sj_surface_nonpositive += sj_surface <= 0;
+      q.sj_surface_min = std::min(q.sj_surface_min, s.sj_surface);
+      q.sj_surface_nonpositive += s.sj_surface <= 0;
     }
   }
   if (m.num_faces()) {
@@ -269,6 +284,14 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
         diag;
   }
   return q;
+}
+
+std::vector<double> surface_scaled_jacobians(const PolyMesh& quads, const PolyMesh& reference) {
+  const AabbTree tree(fan_triangles(reference));
+  std::vector<double> sj(quads.num_faces());
+  for (std::size_t f = 0; f < quads.num_faces(); ++f)
+    sj[f] = face_shape(quads, f, &tree).sj_surface;
+  return sj;
 }
 
 }  // namespace isoquad

@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/poly_mesh.hpp"
 
@@ -47,5 +48,9 @@ struct QualityOptions {
 // comparison, surface-normal Jacobians and distances.
 QualityReport measure_quality(const PolyMesh& quads, const PolyMesh* reference,
                               const QualityOptions& options = {});
+
+// Per face, the scaled Jacobian against the reference's normal at each corner (as
+// QualityReport::sj_surface_min): <= 0 marks a folded face.
+std::vector<double> surface_scaled_jacobians(const PolyMesh& quads, const PolyMesh& reference);
 
 }  // namespace isoquad

@@ -146,6 +146,25 @@ TEST(Quality, DetectsFlipsNonManifoldEdgesAndDistance) {
   EXPECT_NEAR(q.mean_distance * std::sqrt(5.0), 0.1, 1e-9);
 }
 
+TEST(Quality, SurfaceNormalAtCreaseCornersIsTakenOnTheQuadsSide) {
+  // The cube's 6 quads against its triangulation: every corner sits on a crease, where the
+  // nearest input face may lie on the other side; the normal is taken just inside the quad.
+  const PolyMesh quads = test::cube_quads();
+  const PolyMesh tris = test::subdivided_cube(1);
+  const QualityReport q = measure_quality(quads, &tris);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  EXPECT_NEAR(q.sj_surface_min, 1.0, 1e-12);
+  const std::vector<double> sj = surface_scaled_jacobians(quads, tris);
+  ASSERT_EQ(sj.size(), 6u);
+  for (const double s : sj) EXPECT_NEAR(s, 1.0, 1e-12);
+  // A quad turned inside out is folded against the surface.
+  PolyMesh flipped = quads;
+  const auto f0 = flipped.face(0);
+  std::vector<uint32_t> reversed(f0.rbegin(), f0.rend());
+  std::copy(reversed.begin(), reversed.end(), flipped.face_vertices.begin());
+  EXPECT_LT(surface_scaled_jacobians(flipped, tris)[0], 0.0);
+}
+
 TEST(Remesh, EigenEntryPoint) {
   const PolyMesh s = test::icosphere(3);
   Eigen::MatrixXd V(Eigen::Index(s.num_vertices()), 3);
