@@ -10,16 +10,19 @@
 #include "io/write_mesh.hpp"
 #include "pipeline/remesh.hpp"
 #include "prep_options.hpp"
+#include "report/report.hpp"
 
 namespace isoquad::cli {
 
 namespace {
 
 struct RemeshArgs {
-  std::string input, output, weights = "smvc", relax = "adaptive", corners = "global";
+  std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global";
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = false;
   uint32_t smooth = 0;
+  std::vector<double> view;
+  int report_width = 1200;
   PrepArgs prep;
 };
 
@@ -47,6 +50,16 @@ Runner add_remesh(CLI::App& app) {
                   "Tangential smoothing iterations after extraction, vertices kept on the input "
                   "surface (default 0: the map's lattice points as they are)")
       ->capture_default_str();
+  sub->add_option("--report", a->report_dir,
+                  "Write pictures (Figures 1 and 3 of the paper), layout.svg, report.json and "
+                  "index.html into this folder");
+  sub->add_option("--view", a->view,
+                  "Viewing direction x y z for the report's pictures (default: the three-quarter "
+                  "view that shows the most surface)")
+      ->expected(3);
+  sub->add_option("--report-width", a->report_width, "Width of each report picture in pixels")
+      ->check(CLI::Range(200, 4000))
+      ->capture_default_str();
   sub->add_flag("--json", a->json, "Print the run and quality report as JSON");
   sub->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
   add_prep_options(*sub, a->prep);
@@ -70,9 +83,21 @@ Runner add_remesh(CLI::App& app) {
     o.repair = a->prep.repair;
     o.smooth = a->smooth;
     o.improve_corners = a->improve_corners;
-    o.quality = a->json;
-    const PolyRemesh r = remesh_polymesh(read.mesh, o, read.unshared_vertices, say);
+    o.quality = a->json || !a->report_dir.empty();
+    const RemeshRun run = remesh_run(read.mesh, o, read.unshared_vertices, say);
+    const PolyRemesh& r = run.result;
     write_mesh(a->output, r.quads);
+    if (!a->report_dir.empty()) {
+      ReportOptions ro;
+      if (a->view.size() == 3) ro.view = Vec3{a->view[0], a->view[1], a->view[2]};
+      ro.width = a->report_width;
+      ro.title = a->input;
+      const auto t1 = std::chrono::steady_clock::now();
+      const ReportFiles files = write_report(a->report_dir, read.mesh, run, ro);
+      say(fmt::format(
+          "wrote {} report files to {} ({:.2f} s)", files.names.size(), a->report_dir,
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count()));
+    }
     say(fmt::format("wrote {} quads to {} ({:.2f} s in all)", r.quads.num_faces(), a->output,
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
     if (a->json) std::cout << r.report << '\n';

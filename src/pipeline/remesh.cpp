@@ -19,10 +19,29 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+nlohmann::json options_json(const RemeshOptions& o) {
+  return {{"patches", o.patches},
+          {"edge_length", o.edge_length},
+          {"quads", o.quads},
+          {"seed", o.seed},
+          {"weights", o.paper_weights ? "mvc" : "smvc"},
+          {"relax", o.relax},
+          {"corners", o.local_corners ? "local" : "global"},
+          {"improve_corners", o.improve_corners},
+          {"feature_angle", o.feature_angle_deg},
+          {"repair", o.repair},
+          {"smooth", o.smooth}};
+}
+
 }  // namespace
 
 PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
                            const std::function<void(const std::string&)>& progress) {
+  return remesh_run(input, opt, unshared_vertices, progress).result;
+}
+
+RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
+                     const std::function<void(const std::string&)>& progress) {
   auto say = [&](const std::string& s) {
     if (progress) progress(s);
   };
@@ -34,7 +53,9 @@ PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool
   po.repair = opt.repair;
   po.weld_all = unshared_vertices;
   po.feature_angle_deg = opt.feature_angle_deg;
-  const PreparedMesh prep = prepare(input, po);
+  RemeshRun run;
+  run.prep = prepare(input, po);
+  const PreparedMesh& prep = run.prep;
   const double prep_s = seconds_since(t0);
   say(fmt::format("prepared {} component{} ({:.0f} ms)", prep.components.size(),
                   prep.components.size() == 1 ? "" : "s", 1e3 * prep_s));
@@ -50,7 +71,7 @@ PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool
   o.param.relax = opt.relax == "bisection" ? RelaxMode::bisection
                   : opt.relax == "locked"  ? RelaxMode::locked
                                            : RelaxMode::adaptive;
-  std::vector<ComponentRun> runs;
+  std::vector<ComponentRun>& runs = run.runs;
   nlohmann::json comps = nlohmann::json::array();
   for (uint32_t c = 0; c < prep.components.size(); ++c) {
     runs.push_back(run_component(prep, c, o));
@@ -90,17 +111,19 @@ PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool
                        {"param", r.param_seconds},
                        {"extract", r.extract_seconds}}}});
   }
-  PolyRemesh out;
+  PolyRemesh& out = run.result;
   out.quads = merge_quads(prep, runs);
-  nlohmann::json j = {
-      {"quads", out.quads.num_faces()}, {"components", comps}, {"seconds", {{"prepare", prep_s}}}};
+  nlohmann::json j = {{"quads", out.quads.num_faces()},
+                      {"options", options_json(opt)},
+                      {"components", comps},
+                      {"seconds", {{"prepare", prep_s}}}};
   if (opt.quality) {
     t0 = std::chrono::steady_clock::now();
     j["quality"] = measure_quality(out.quads, &input);
     j["seconds"]["quality"] = seconds_since(t0);
   }
   out.report = j.dump(2);
-  return out;
+  return run;
 }
 
 RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,

@@ -5,8 +5,12 @@
 #include <functional>
 #include <string>
 
+#include <vector>
+
 #include "core/poly_mesh.hpp"
 #include "isoquad/remesh.hpp"
+#include "pipeline/pipeline.hpp"
+#include "prep/prepare.hpp"
 
 namespace isoquad {
 
@@ -14,6 +18,17 @@ struct PolyRemesh {
   PolyMesh quads;      // face_group: patch id
   std::string report;  // JSON
 };
+
+// Everything a run made, for pictures and reports (report/report.hpp).
+struct RemeshRun {
+  PreparedMesh prep;
+  std::vector<ComponentRun> runs;
+  PolyRemesh result;
+};
+
+RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& options,
+                     bool unshared_vertices = false,
+                     const std::function<void(const std::string&)>& progress = {});
 
 PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& options,
                            bool unshared_vertices = false,

@@ -39,22 +39,111 @@ Rgb distinct_color(uint32_t i) {
   }
 }
 
+namespace {
+
+// An orthographic view: picture axes and the scale that fits `box` (5% margin).
+struct ViewBasis {
+  Vec3 right, up, forward, center;
+  double scale = 1;
+  ViewBasis(int width, int height, const Box3& box, const Camera& camera) {
+    forward = normalized(camera.direction);
+    right = normalized(cross(forward, camera.up));
+    if (squared_norm(right) == 0) right = normalized(cross(forward, Vec3{1, 0, 0}));
+    up = cross(right, forward);
+    center = box.center();
+    double ext_x = 1e-300, ext_y = 1e-300;
+    for (int i = 0; i < 8; ++i) {
+      const Vec3 p{i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y,
+                   i & 4 ? box.hi.z : box.lo.z};
+      ext_x = std::max(ext_x, std::fabs(dot(p - center, right)));
+      ext_y = std::max(ext_y, std::fabs(dot(p - center, up)));
+    }
+    scale = 0.95 * std::min(width / (2 * ext_x), height / (2 * ext_y));
+  }
+};
+
+}  // namespace
+
+double visible_area_fraction(const std::vector<const TriMesh*>& meshes, const Camera& camera) {
+  Box3 box;
+  for (const TriMesh* m : meshes)
+    for (uint32_t v = 0; v < m->num_vertices(); ++v) box.add(m->position(v));
+  constexpr int kRes = 192;
+  const ViewBasis b(kRes, kRes, box, camera);
+  std::vector<float> depth(kRes * kRes, INFINITY);
+  std::vector<uint64_t> id(kRes * kRes, ~uint64_t(0));
+  double total = 0;
+  std::vector<std::vector<double>> areas(meshes.size());
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    const TriMesh& m = *meshes[k];
+    areas[k].resize(m.num_faces());
+    for (uint32_t f = 0; f < m.num_faces(); ++f) {
+      const Tri& t = m.face(f);
+      Vec3 p[3];
+      for (int i = 0; i < 3; ++i) {
+        const Vec3 d = m.position(t[i]) - b.center;
+        p[i] = {0.5 * kRes + b.scale * dot(d, b.right), 0.5 * kRes - b.scale * dot(d, b.up),
+                dot(d, b.forward)};
+      }
+      areas[k][f] = 0.5 * norm(cross(m.position(t[1]) - m.position(t[0]),
+                                     m.position(t[2]) - m.position(t[0])));
+      total += areas[k][f];
+      const double area =
+          (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+      if (area == 0) continue;
+      const int x0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
+      const int x1 = std::min(kRes - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
+      const int y0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
+      const int y1 = std::min(kRes - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          const double px = x + 0.5, py = y + 0.5;
+          const double w0 = ((p[1].x - px) * (p[2].y - py) - (p[1].y - py) * (p[2].x - px)) / area;
+          const double w1 = ((p[2].x - px) * (p[0].y - py) - (p[2].y - py) * (p[0].x - px)) / area;
+          const double w2 = 1 - w0 - w1;
+          if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+          const float z = float(w0 * p[0].z + w1 * p[1].z + w2 * p[2].z);
+          const std::size_t i = std::size_t(y) * kRes + x;
+          if (z < depth[i]) {
+            depth[i] = z;
+            id[i] = (uint64_t(k) << 32) | f;
+          }
+        }
+    }
+  }
+  std::sort(id.begin(), id.end());
+  id.erase(std::unique(id.begin(), id.end()), id.end());
+  double seen = 0;
+  for (const uint64_t i : id)
+    if (i != ~uint64_t(0)) seen += areas[i >> 32][i & 0xFFFFFFFFu];
+  return total > 0 ? seen / total : 0;
+}
+
+Camera best_view(const std::vector<const TriMesh*>& meshes) {
+  Camera best;
+  double best_score = -1;
+  for (const double elevation : {-30.0, 30.0})
+    for (int k = 0; k < 8; ++k) {
+      const double az = (22.5 + 45.0 * k) * M_PI / 180, el = elevation * M_PI / 180;
+      Camera c;
+      c.direction = {-std::cos(el) * std::sin(az), std::sin(el), -std::cos(el) * std::cos(az)};
+      const double score = visible_area_fraction(meshes, c);
+      if (score > best_score + 1e-3) {
+        best_score = score;
+        best = c;
+      }
+    }
+  return best;
+}
+
 Canvas::Canvas(int width, int height, const Box3& box, const Camera& camera)
     : w_(width), h_(height), surface_(std::make_unique<Surface>()) {
-  forward_ = normalized(camera.direction);
-  right_ = normalized(cross(forward_, camera.up));
-  if (squared_norm(right_) == 0) right_ = normalized(cross(forward_, Vec3{1, 0, 0}));
-  up_ = cross(right_, forward_);
-  center_ = box.center();
-  // Fit the projected box (all 8 corners) with a 5% margin.
-  double ext_x = 1e-300, ext_y = 1e-300;
-  for (int i = 0; i < 8; ++i) {
-    const Vec3 p{i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y,
-                 i & 4 ? box.hi.z : box.lo.z};
-    ext_x = std::max(ext_x, std::fabs(dot(p - center_, right_)));
-    ext_y = std::max(ext_y, std::fabs(dot(p - center_, up_)));
-  }
-  scale_ = 0.95 * std::min(width / (2 * ext_x), height / (2 * ext_y));
+  const ViewBasis b(width, height, box, camera);
+  forward_ = b.forward;
+  right_ = b.right;
+  up_ = b.up;
+  center_ = b.center;
+  scale_ = b.scale;
   bias_ = 2e-3 * box.diagonal();
   depth_.assign(std::size_t(w_ * ss_) * h_ * ss_, INFINITY);
   pixels_.assign(depth_.size(), {255, 255, 255});
@@ -195,6 +284,51 @@ cairo_status_t write_to_stream(void* closure, const unsigned char* data, unsigne
   return CAIRO_STATUS_SUCCESS;
 }
 }  // namespace
+
+void Canvas::caption(const std::string& text, double size) {
+  resolve();
+  cairo_t* cr = surface_->cr;
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, size);
+  cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+  cairo_move_to(cr, 0.6 * size, 1.4 * size);
+  cairo_show_text(cr, text.c_str());
+}
+
+void Canvas::save_png_row(const std::filesystem::path& path, const std::vector<Canvas*>& canvases) {
+  int width = 0, height = 0;
+  for (Canvas* c : canvases) {
+    c->resolve();
+    cairo_surface_flush(c->surface_->surface);
+    width += c->w_;
+    height = std::max(height, c->h_);
+  }
+  cairo_surface_t* row = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
+  cairo_t* cr = cairo_create(row);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  int x = 0;
+  for (Canvas* c : canvases) {
+    cairo_set_source_surface(cr, c->surface_->surface, x, 0);
+    cairo_paint(cr);
+    x += c->w_;
+  }
+  cairo_destroy(cr);
+  cairo_surface_flush(row);
+  try {
+    write_file_atomically(
+        path,
+        [&](std::ostream& out) {
+          if (cairo_surface_write_to_png_stream(row, write_to_stream, &out) != CAIRO_STATUS_SUCCESS)
+            throw Error(ErrorKind::internal, "E700", "PNG encoding failed");
+        },
+        true);
+  } catch (...) {
+    cairo_surface_destroy(row);
+    throw;
+  }
+  cairo_surface_destroy(row);
+}
 
 void Canvas::save_png(const std::filesystem::path& path) {
   resolve();

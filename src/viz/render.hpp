@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/tri_mesh.hpp"
@@ -26,6 +27,14 @@ struct Camera {
   Vec3 up{0, 1, 0};
 };
 
+// The fraction of the surface's area a viewer sees along `camera` (faces that show at least one
+// pixel of a small depth buffer count whole).
+double visible_area_fraction(const std::vector<const TriMesh*>& meshes, const Camera& camera);
+
+// The three-quarter view (eight azimuths around `up`, seen from 30 degrees above or below) that
+// shows the most surface; ties go to the first candidate, so the choice is deterministic.
+Camera best_view(const std::vector<const TriMesh*>& meshes);
+
 class Canvas {
  public:
   // Fits `box` into a width x height picture seen along `camera`.
@@ -43,8 +52,12 @@ class Canvas {
   // Lines and dots, drawn only where they are not behind the filled surface.
   void line(Vec3 a, Vec3 b, Rgb color, double width);
   void point(Vec3 p, Rgb color, double radius);
+  // A caption in the top-left corner.
+  void caption(const std::string& text, double size = 22);
   // Writes the PNG atomically.
   void save_png(const std::filesystem::path& path);
+  // Several canvases side by side in one PNG (atomically).
+  static void save_png_row(const std::filesystem::path& path, const std::vector<Canvas*>& canvases);
 
  private:
   struct Projected {

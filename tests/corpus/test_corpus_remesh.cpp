@@ -1,14 +1,20 @@
 // The whole method on every corpus mesh at 1,500 quads: the output is pure quad, edge- and
 // vertex-manifold, consistently oriented, and has the input's components, boundary loops and
-// Euler characteristic; its quad count is what the layout promised.
+// Euler characteristic; its quad count is what the layout promised. The run's report folder
+// (pictures, layout, JSON, HTML) is complete and its numbers are the output's quality.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
 
 #include "corpus.hpp"
 #include "io/read_mesh.hpp"
+#include "io/report_json.hpp"
 #include "metrics/aabb_tree.hpp"
 #include "metrics/quality.hpp"
-#include "pipeline/pipeline.hpp"
-#include "prep/prepare.hpp"
+#include "pipeline/remesh.hpp"
+#include "report/report.hpp"
+#include "report_checks.hpp"
 
 using namespace isoquad;
 
@@ -19,17 +25,15 @@ class CorpusRemesh : public testing::TestWithParam<const char*> {};
 TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   ISOQUAD_CORPUS_MESH(path, GetParam());
   const ReadResult input = read_mesh(path);
-  const PreparedMesh prep = prepare(input.mesh);
-  PipelineOptions o;
+  RemeshOptions o;
   o.quads = 1500;
-  const std::vector<ComponentRun> runs = run_pipeline(prep, o);
-  const PolyMesh quads = merge_quads(prep, runs);
+  const RemeshRun run = remesh_run(input.mesh, o, input.unshared_vertices);
+  const PreparedMesh& prep = run.prep;
+  const PolyMesh& quads = run.result.quads;
   int64_t promised = 0;
-  for (const ComponentRun& r : runs) promised += r.layout.quads();
+  for (const ComponentRun& r : run.runs) promised += r.layout.quads();
   EXPECT_EQ(int64_t(quads.num_faces()), promised);
-  QualityOptions qo;
-  qo.samples = 5000;
-  const QualityReport q = measure_quality(quads, &input.mesh, qo);
+  const QualityReport q = measure_quality(quads, &input.mesh);
   EXPECT_TRUE(q.pure_quad);
   EXPECT_TRUE(q.edge_manifold);
   EXPECT_TRUE(q.vertex_manifold);
@@ -51,6 +55,15 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   double worst = 0;
   for (const Vec3& p : quads.positions) worst = std::max(worst, tree.closest(p).distance);
   EXPECT_LT(worst, 1e-9 * box.diagonal());
+
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("isoquad_report_" + std::to_string(::getpid()) + "_" + GetParam());
+  ReportOptions ro;
+  ro.width = 360;
+  write_report(dir, input.mesh, run, ro);
+  const nlohmann::json report = test::expect_valid_report(dir);
+  EXPECT_EQ(report.at("quality"), nlohmann::json(q));  // what `isoquad quality` would print
+  std::filesystem::remove_all(dir);
   RecordProperty("quads", int(quads.num_faces()));
   RecordProperty("sj_nonpositive", int(q.sj_nonpositive));
   RecordProperty("hausdorff_permille", int(1000 * q.hausdorff));

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "corpus.hpp"
+#include "report_checks.hpp"
 
 namespace {
 
@@ -16,13 +17,13 @@ struct CliRun {
   std::string out, err;
 };
 
-CliRun run(const std::string& args) {
+// Runs a shell command, capturing its exit status, stdout and stderr.
+CliRun shell(const std::string& command) {
   const auto dir = std::filesystem::temp_directory_path();
   const std::string tag = std::to_string(::getpid()) + "_" +
                           ::testing::UnitTest::GetInstance()->current_test_info()->name();
   const auto out = dir / ("isoquad_cli_out_" + tag), err = dir / ("isoquad_cli_err_" + tag);
-  const std::string cmd =
-      std::string(ISOQUAD_CLI_PATH) + " " + args + " >" + out.string() + " 2>" + err.string();
+  const std::string cmd = command + " >" + out.string() + " 2>" + err.string();
   const int raw = std::system(cmd.c_str());
   auto slurp = [](const std::filesystem::path& p) {
     std::ifstream in(p);
@@ -35,6 +36,8 @@ CliRun run(const std::string& args) {
   std::filesystem::remove(err);
   return r;
 }
+
+CliRun run(const std::string& args) { return shell(std::string(ISOQUAD_CLI_PATH) + " " + args); }
 
 std::filesystem::path write_temp(const std::string& name, const std::string& content) {
   const auto p = std::filesystem::temp_directory_path() / name;
@@ -193,4 +196,53 @@ TEST(Cli, RemeshFailureLeavesNoOutput) {
   EXPECT_NE(r.err.find("isoquad: error:"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(out));
   std::filesystem::remove(bad);
+}
+
+// `remesh --report`: every file is there and valid, report.json agrees with `isoquad quality` on
+// the written mesh, and the page shows every picture in a real browser (headless Chromium).
+TEST(Cli, RemeshReportFolderAndPageInChromium) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("isoquad_cli_report_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto out = dir / "quads.obj";
+  const std::string in = (isoquad::test::data_dir() / "fandisk.off").string();
+  const CliRun r = run("remesh " + in + " -o " + out.string() + " --quads 600 --report " +
+                       (dir / "report").string() + " --report-width 480");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json report = isoquad::test::expect_valid_report(dir / "report");
+  const CliRun q = run("quality --json " + out.string() + " --reference " + in);
+  ASSERT_EQ(q.status, 0) << q.err;
+  EXPECT_EQ(nlohmann::json::parse(q.out), report.at("quality"));
+  // A fixed view is honoured and recorded.
+  const CliRun v = run("remesh " + in + " -o " + out.string() + " --quads 300 --view 0 0 -1 " +
+                       "--report " + (dir / "front").string() + " --report-width 300 -q");
+  ASSERT_EQ(v.status, 0) << v.err;
+  EXPECT_EQ(isoquad::test::expect_valid_report(dir / "front").at("view"),
+            nlohmann::json::parse("[0.0, 0.0, -1.0]"));
+
+  const char* chromium = "/usr/bin/chromium";
+  if (!std::filesystem::exists(chromium)) {
+    if (std::getenv("ISOQUAD_REQUIRE_BROWSER")) FAIL() << "chromium is not installed";
+    GTEST_SKIP() << "chromium is not installed (scripts/install-deps --tests)";
+  }
+  // The page marks itself with the number of pictures that loaded once everything has.
+  const CliRun page =
+      shell(std::string(chromium) +
+            " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+            " --disable-background-networking --disable-component-update"
+            " --disable-sync --user-data-dir=" +
+            (dir / "chromium").string() + " --virtual-time-budget=10000 --dump-dom file://" +
+            (dir / "report" / "index.html").string());
+  ASSERT_EQ(page.status, 0) << page.err;
+  std::size_t images = 0;
+  for (const auto& f : report.at("files"))
+    images += f.get<std::string>().ends_with(".png") || f.get<std::string>().ends_with(".svg");
+  EXPECT_NE(page.out.find("data-images=\"" + std::to_string(images) + "/" + std::to_string(images) +
+                          "\""),
+            std::string::npos)
+      << page.out.substr(0, 400);
+  EXPECT_NE(page.out.find("<span id=\"quads\">" + report.at("quads").dump() + "</span>"),
+            std::string::npos);
+  std::filesystem::remove_all(dir);
 }
