@@ -75,19 +75,26 @@ std::optional<Lengths> solve_lengths_flow(const std::vector<double>& c,
     Graph::Node tail = boundary, head = boundary;
     for (const Entry& en : cols[e]) (sigma->at(en.row) * en.sign > 0 ? head : tail) = node[en.row];
     if (cols[e].empty()) continue;  // on no side (cannot happen in a layout): stays 1
-    // Convex piecewise-linear cost w|x - c|: a mandatory unit, then units of marginal cost -w
-    // (below c), the one unit across c, and +w (above c).
-    const double w = 1.0 / std::max(c[e], 1.0);
-    const int64_t f = int64_t(std::floor(c[e]));
+    // The convex piecewise-linear cost d(x, c) (quantize.hpp) in units: a mandatory first unit,
+    // then one arc per stretch of integers where d is linear, and the stretching slope above.
     auto add = [&](int64_t lo, int64_t hi, double unit_cost) {
       const Graph::Arc a = g.addArc(tail, head);
       lower[a] = lo, upper[a] = hi, cost[a] = std::llround(unit_cost * kScale);
       arcs[e].push_back(a);
     };
     add(1, 1, 0);
-    if (f >= 2) add(0, f - 1, -w);
-    if (f >= 1) add(0, 1, w * (2.0 * double(f) + 1.0 - 2.0 * c[e]));
-    add(0, kInfinite, w);
+    std::vector<int64_t> knots = {1};
+    double at = c[e];
+    for (const CostSegment& s : shrink_segments(c[e]))
+      knots.push_back(int64_t(std::llround(at -= s.length)));
+    knots.push_back(int64_t(std::ceil(c[e])));
+    std::sort(knots.begin(), knots.end());
+    knots.erase(std::unique(knots.begin(), knots.end()), knots.end());
+    for (std::size_t k = 0; k + 1 < knots.size(); ++k) {
+      const double a = double(knots[k]), b = double(knots[k + 1]);
+      add(0, knots[k + 1] - knots[k], (length_cost(b, c[e]) - length_cost(a, c[e])) / (b - a));
+    }
+    add(0, kInfinite, stretch_slope(c[e]));
   }
   lemon::NetworkSimplex<Graph, int64_t, int64_t> simplex(g);
   simplex.lowerMap(lower).upperMap(upper).costMap(cost);
@@ -101,7 +108,7 @@ std::optional<Lengths> solve_lengths_flow(const std::vector<double>& c,
     int64_t x = 0;
     for (const auto& a : arcs[e]) x += simplex.flow(a);
     out.x[e] = x;
-    out.objective += std::fabs(double(x) - c[e]) / std::max(c[e], 1.0);
+    out.objective += length_cost(double(x), c[e]);
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

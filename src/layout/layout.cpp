@@ -135,8 +135,8 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
       for (uint32_t i = sorted[k]; i != sorted[(k + 1) % 4]; i = (i + 1) % m) {
         const uint32_t e = face.cycle[i].edge;
         const double sign = k < 2 ? 1 : -1;
-        lp.set_coefficient(2 * n + 2 * p + (k % 2), e, sign);
-        lp.set_coefficient(2 * n + 2 * p + 1 - (k % 2), e, 0);
+        lp.set_coefficient(side_row(n, 2 * p + (k % 2)), e, sign);
+        lp.set_coefficient(side_row(n, 2 * p + 1 - (k % 2)), e, 0);
       }
   };
   auto lp_value = [&] {

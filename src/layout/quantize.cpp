@@ -79,18 +79,58 @@ Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
   return f;
 }
 
+double stretch_slope(double c) { return 1.0 / std::max(c, 1.0); }
+
+std::vector<CostSegment> shrink_segments(double c) {
+  // Breakpoints: floor(c), then c/r for growing ratios r, floored, down to 1; the cost at a
+  // breakpoint b is c/b - 1 exactly, linear in between (integer breakpoints, so the program and
+  // the min-cost flow, which sees only integer lengths, price every integer alike).
+  std::vector<CostSegment> out;
+  if (c <= 1) return out;
+  std::vector<double> b = {std::floor(c)};
+  for (const double r : {1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 64.0}) {
+    const double x = std::max(1.0, std::floor(c / r));
+    if (x < b.back()) b.push_back(x);
+  }
+  if (b.back() > 1) b.push_back(1);
+  double x = c, cost = 0;
+  for (const double next : b) {
+    if (next >= x) continue;
+    const double next_cost = c / next - 1;
+    out.push_back({x - next, (next_cost - cost) / (x - next)});
+    x = next;
+    cost = next_cost;
+  }
+  return out;
+}
+
+double length_cost(double x, double c) {
+  if (x >= c) return (x - c) * stretch_slope(c);
+  double at = c, cost = 0;
+  for (const CostSegment& s : shrink_segments(c)) {
+    const double step = std::min(s.length, at - x);
+    cost += step * s.slope;
+    at -= step;
+    if (at <= x) break;
+  }
+  return cost;
+}
+
 MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideRow>& rows,
                            bool bounded, bool integer) {
   const uint32_t n = uint32_t(c.size());
   MilpProblem ilp;
-  for (uint32_t e = 0; e < n;
-       ++e)  // x_e; the bound keeps the search small, and is dropped if it bites
+  for (uint32_t e = 0; e < n; ++e)  // x_e; the bound keeps the search small, dropped if it bites
     ilp.add_column(0, 1, bounded ? std::max(4 * c[e], c[e] + 20) : MilpProblem::kInf, integer);
-  std::vector<uint32_t> t(n);
-  for (uint32_t e = 0; e < n; ++e) {
-    t[e] = ilp.add_column(1.0 / std::max(c[e], 1.0), 0, MilpProblem::kInf, false);
-    ilp.add_row({{e, t[e]}, {1, -1}, -MilpProblem::kInf, c[e]});  // x - t <= c
-    ilp.add_row({{e, t[e]}, {1, 1}, c[e], MilpProblem::kInf});    // x + t >= c
+  for (uint32_t e = 0; e < n; ++e) {  // x_e - stretch + sum shrink_j = c_e
+    MilpProblem::Row row{{e}, {1}, c[e], c[e]};
+    row.columns.push_back(ilp.add_column(stretch_slope(c[e]), 0, MilpProblem::kInf, false));
+    row.values.push_back(-1);
+    for (const CostSegment& s : shrink_segments(c[e])) {
+      row.columns.push_back(ilp.add_column(s.slope, 0, s.length, false));
+      row.values.push_back(1);
+    }
+    ilp.add_row(std::move(row));
   }
   for (const SideRow& r : rows) {
     MilpProblem::Row row;
@@ -130,7 +170,7 @@ Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& 
   out.x.resize(n);
   for (uint32_t e = 0; e < n; ++e) {
     out.x[e] = std::llround(res.x[e]);
-    out.objective += std::fabs(double(out.x[e]) - c[e]) / std::max(c[e], 1.0);
+    out.objective += length_cost(double(out.x[e]), c[e]);
   }
   return out;
 }

@@ -1,5 +1,12 @@
-// Integer meta-edge lengths (paper §3.3 problem (*); DESIGN.md §5): min sum w_e |x_e - c_e|
+// Integer meta-edge lengths (paper §3.3 problem (*); DESIGN.md §5): min sum_e d(x_e, c_e)
 // subject to equal sums on facing sides of every patch and integer x_e >= 1.
+//
+// The deviation d is the paper's |x - c| made relative and symmetric in the ratio: stretching
+// by a factor k costs k - 1 (d = x/c - 1 for x >= c) and so does shrinking by k (d = c/x - 1,
+// convex, taken piecewise linear between breakpoints). A relative |x - c|/c alone makes
+// shrinking a long edge to 1 cost less than 1 whatever its length, so conflicting sides were
+// settled by collapsing long meta-edges (quads spanning a whole leg); the symmetric cost settles
+// them near the geometric mean.
 #pragma once
 
 #include <array>
@@ -31,24 +38,36 @@ struct Feasibility {
 };
 Feasibility check_feasibility(uint32_t num_edges, const std::vector<SideRow>& rows);
 
-// The LP relaxation of the length program: its optimum (sum w_e |x_e - c_e| over real x >= 1),
+// The LP relaxation of the length program: its optimum (sum d(x_e, c_e) over real x >= 1),
 // or +infinity when the side equations admit no positive lengths.
 double relaxed_length_objective(const std::vector<double>& target,
                                 const std::vector<SideRow>& rows);
 
-// The length program itself: columns x_e (e < n) then deviations t_e; rows 2e, 2e + 1 bound
-// t_e, then one row per side equation in the order of `rows` (row 2n + k for rows[k]).
+// The deviation cost: stretching at slope 1/max(c, 1) above c, and below c the segments of the
+// shrinking cost from c downwards (lengths and slopes, slopes increasing: convex).
+struct CostSegment {
+  double length = 0, slope = 0;
+};
+double stretch_slope(double c);
+std::vector<CostSegment> shrink_segments(double c);
+// d(x, c): the piecewise-linear cost the program minimizes.
+double length_cost(double x, double c);
+
+// The length program itself: columns x_e (e < n), then per edge its stretch and shrink
+// segments; row e ties x_e to c_e through them, then one row per side equation in the order of
+// `rows` (row side_row(n, k) for rows[k]).
+inline uint32_t side_row(uint32_t num_edges, uint32_t k) { return num_edges + k; }
 MilpProblem length_problem(const std::vector<double>& target, const std::vector<SideRow>& rows,
                            bool bounded, bool integer);
 
 struct Lengths {
   std::vector<int64_t> x;
-  double objective = 0;  // sum w_e |x_e - c_e|
+  double objective = 0;  // sum_e d(x_e, c_e)
   bool optimal = false;
   double seconds = 0;
   std::string solver;
 };
-// \pre the system is feasible. w_e = 1 / max(c_e, 1) (relative deviation).
+// \pre the system is feasible.
 // \throw Error(solver, E502) if CBC finds no solution in time.
 Lengths solve_lengths(const std::vector<double>& target, const std::vector<SideRow>& rows,
                       double time_limit);

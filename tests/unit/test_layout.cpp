@@ -53,11 +53,43 @@ TEST(Feasibility, PaperFigure4ForcedZero) {
   // With d on the other side of patch 2 as well, it is feasible, and the ILP finds the optimum.
   const std::vector<SideRow> fixed = {{{a, 1}, {b, -1}}, {{b, 1}, {d, 1}, {a, -1}, {e, -1}}};
   EXPECT_TRUE(check_feasibility(4, fixed).feasible);
-  const Lengths l = solve_lengths({3.2, 2.9, 1.4, 1.6}, fixed, 10);
+  const std::vector<double> c = {3.2, 2.9, 1.4, 1.6};
+  const Lengths l = solve_lengths(c, fixed, 10);
   EXPECT_TRUE(l.optimal);
   EXPECT_EQ(l.x[a], l.x[b]);
   EXPECT_EQ(l.x[d], l.x[e]);
-  EXPECT_EQ(l.x, (std::vector<int64_t>{3, 3, 1, 1}));  // |3-3.2|+|3-2.9|/... : the L1 optimum
+  // The optimum by enumeration (a = b and d = e are the only freedom): 3 and 2, since stretching
+  // 1.4 and 1.6 to 2 costs less than shrinking them to 1.
+  double best = INFINITY;
+  std::vector<int64_t> arg;
+  for (int64_t ab = 1; ab <= 8; ++ab)
+    for (int64_t de = 1; de <= 8; ++de) {
+      const double cost = length_cost(double(ab), c[a]) + length_cost(double(ab), c[b]) +
+                          length_cost(double(de), c[d]) + length_cost(double(de), c[e]);
+      if (cost < best - 1e-12) best = cost, arg = {ab, ab, de, de};
+    }
+  EXPECT_EQ(l.x, arg);
+  EXPECT_EQ(arg, (std::vector<int64_t>{3, 3, 2, 2}));
+  EXPECT_NEAR(l.objective, best, 1e-9);
+}
+
+TEST(LengthCost, SymmetricInTheRatioAndConvex) {
+  for (const double c : {1.0, 2.5, 7.0, 15.3, 40.0}) {
+    EXPECT_EQ(length_cost(c, c), 0.0);
+    EXPECT_NEAR(length_cost(2 * c, c), c >= 1 ? 1.0 : 2 * c - c, 1e-12);  // stretched by 2
+    // Shrinking by an integer factor lands on a breakpoint when c / k is an integer.
+    if (c == 40.0) {
+      EXPECT_NEAR(length_cost(20, c), 1.0, 1e-12);
+      EXPECT_NEAR(length_cost(10, c), 3.0, 1e-12);
+      EXPECT_NEAR(length_cost(5, c), 7.0, 1e-12);
+    }
+    // Convex over the integers: second differences are never negative.
+    for (int x = 2; x < int(3 * c) + 3; ++x)
+      EXPECT_GE(length_cost(x + 1, c) - 2 * length_cost(x, c) + length_cost(x - 1, c), -1e-12)
+          << "c " << c << " x " << x;
+  }
+  // Collapsing a long edge is no longer cheap: 15.3 -> 1 costs about as much as 1 -> 15.3.
+  EXPECT_GT(length_cost(1, 15.3), 10.0);
 }
 
 TEST(Layout, CubeIsSixSquareGrids) {
