@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "io/read_mesh.hpp"
 #include "layout/layout.hpp"
+#include "pipeline/pipeline.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
 #include "prep_options.hpp"
@@ -52,7 +53,13 @@ Runner add_layout(CLI::App& app) {
       const double share = surface_area(c.mesh) / total_area;
       const SegmentOptions so = segment_options(a->patch, c.mesh, share, prep.normalization.scale);
       const double h = so.vsa.target_edge_length;
-      SegmentResult seg = segment(c.mesh, c.feature, so);
+      // The surface the pipeline works on (coarse components subdivided, pipeline.hpp).
+      EdgeData<char> feature;
+      uint32_t subdivisions = 0;
+      const RefinedMesh surface = subdivide_coarse(
+          c.mesh, c.feature, PipelineOptions{}.max_edge_ratio * so.vsa.target_edge_length, feature,
+          subdivisions);
+      SegmentResult seg = segment(surface.mesh, feature, so);
       LayoutOptions lo;
       lo.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;
       lo.length_solver = a->ilp == "flow" ? LengthSolver::flow : LengthSolver::cbc;
@@ -69,6 +76,7 @@ Runner add_layout(CLI::App& app) {
       for (uint32_t v = 0; v < mm.vertices.size(); ++v)
         if (!mm.vertices[v].on_boundary) ++valence[layout.quarter_turns[v]];
       nlohmann::json j = {{"component", c.report_index},
+                          {"subdivisions", subdivisions},
                           {"patches", mm.faces.size()},
                           {"meta_vertices", mm.vertices.size()},
                           {"meta_edges", mm.edges.size()},

@@ -6,6 +6,7 @@
 #include "commands.hpp"
 #include "io/read_mesh.hpp"
 #include "io/write_mesh.hpp"
+#include "pipeline/pipeline.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
 #include "prep_options.hpp"
@@ -45,10 +46,17 @@ Runner add_segment(CLI::App& app) {
     for (const PreparedComponent& c : prep.components) {
       const SegmentOptions so = segment_options(a->patch, c.mesh, surface_area(c.mesh) / total_area,
                                                 prep.normalization.scale);
-      SegmentResult seg = segment(c.mesh, c.feature, so);
+      // The surface the pipeline works on (coarse components subdivided, pipeline.hpp).
+      EdgeData<char> feature;
+      uint32_t subdivisions = 0;
+      const RefinedMesh surface = subdivide_coarse(
+          c.mesh, c.feature, PipelineOptions{}.max_edge_ratio * so.vsa.target_edge_length, feature,
+          subdivisions);
+      SegmentResult seg = segment(surface.mesh, feature, so);
       const MetaMesh& mm = seg.meta;
       summary.push_back(
           {{"component", c.report_index},
+           {"subdivisions", subdivisions},
            {"patches", seg.num_patches},
            {"vsa_patches", seg.vsa_patches},
            {"meta_vertices", mm.vertices.size()},

@@ -39,7 +39,7 @@ int regular_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, uint32_t mv
 std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
                                                             const FaceData<uint32_t>& labels,
                                                             const MetaMesh& meta, double beta,
-                                                            uint32_t keep) {
+                                                            uint32_t keep, double unit) {
   std::vector<std::vector<CornerCandidate>> out(meta.faces.size());
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     const MetaFace& f = meta.faces[p];
@@ -77,9 +77,13 @@ std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
             const std::array<uint32_t, 4> it = {allowed[a], allowed[b], allowed[c], allowed[d]};
             const double l0 = side(it[0], it[1]), l1 = side(it[1], it[2]), l2 = side(it[2], it[3]),
                          l3 = side(it[3], it[0]);
-            // The paper's term, scale-free: facing sides should be equally long.
-            const double e_len = std::pow((l0 - l2) / std::max(l0 + l2, 1e-300), 2) +
-                                 std::pow((l1 - l3) / std::max(l1 + l3, 1e-300), 2);
+            // Facing sides should be equally long.
+            auto mismatch = [&](double a, double b) {
+              if (unit <= 0) return std::pow((a - b) / std::max(a + b, 1e-300), 2);
+              a = std::max(a / unit, 1.0), b = std::max(b / unit, 1.0);
+              return 0.5 * (std::sqrt(std::max(a, b) / std::min(a, b)) - 1);
+            };
+            const double e_len = mismatch(l0, l2) + mismatch(l1, l3);
             double e_ang = 0;
             for (uint32_t i = 0; i < m; ++i) {
               const bool corner = std::find(it.begin(), it.end(), i) != it.end();

@@ -25,11 +25,17 @@ struct CornerChoice {
   bool softened = false;  // the valence bounds had to be relaxed
 };
 
-// Per patch, the best `keep` candidates (all of them for keep == 0), best first.
+// Per patch, the best `keep` candidates (all of them for keep == 0), best first. With a target
+// quad edge `unit` > 0, facing sides a and b (in units, at least 1) cost a quarter of what
+// settling them alone costs the length program (quantize.hpp, 2 (sqrt(max/min) - 1)):
+// unbounded, so that a side of a tenth of a unit never faces one of forty, yet light enough to
+// leave room to the angle and valence terms; with unit == 0 the paper's scale-free
+// ((a - b)/(a + b))^2.
 std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
                                                             const FaceData<uint32_t>& labels,
                                                             const MetaMesh& meta,
-                                                            double angle_weight, uint32_t keep);
+                                                            double angle_weight, uint32_t keep,
+                                                            double unit = 0);
 
 // Picks one candidate per patch. With `require_feasible`, the ILP also carries continuous
 // meta-edge lengths in [1, 100] and, for the chosen candidate of each patch only (big-M), its

@@ -30,12 +30,12 @@ struct Feasible {
 // the feasibility-aware ILP over the best candidates, then over many more. Empty if none is
 // found; `zero` then holds the forced-zero meta-edges of the plain choice.
 std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels,
-                                         const MetaMesh& meta, const LayoutOptions& o,
+                                         const MetaMesh& meta, const LayoutOptions& o, double unit,
                                          LayoutReport& report, std::vector<uint32_t>& zero) {
   for (const uint32_t keep :
        {o.candidates_per_patch, o.candidates_per_patch, 4 * o.candidates_per_patch}) {
     const bool exact = report.corner_rounds > 0;
-    const auto cands = corner_candidates(mesh, labels, meta, o.angle_weight, keep);
+    const auto cands = corner_candidates(mesh, labels, meta, o.angle_weight, keep, unit);
     Feasible f;
     try {
       f.corners = choose_corners(mesh, meta, cands, o, exact);
@@ -95,11 +95,11 @@ bool insert_on_zero_edges(const TriMesh& mesh, const FaceData<uint32_t>& labels,
 // patch alone; this sees how the side equations of all patches interact. Deterministic (fixed
 // order, strict improvement) and bounded by two sweeps.
 void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
-                     const LayoutOptions& o, const std::vector<double>& targets, Feasible& f,
-                     LayoutReport& report) {
+                     const LayoutOptions& o, double unit, const std::vector<double>& targets,
+                     Feasible& f, LayoutReport& report) {
   const auto t0 = std::chrono::steady_clock::now();
   const uint32_t np = uint32_t(meta.faces.size());
-  const auto all = corner_candidates(mesh, labels, meta, o.angle_weight, 0);
+  const auto all = corner_candidates(mesh, labels, meta, o.angle_weight, 0, unit);
   auto cost_of = [&](uint32_t p, const std::array<uint32_t, 4>& c) -> double {
     std::array<uint32_t, 4> s = c;
     std::sort(s.begin(), s.end());
@@ -191,23 +191,23 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
 Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
                     const EdgeData<char>& feature, MetaMesh& meta, const LayoutOptions& o,
                     LayoutReport& report) {
+  const bool by_count = o.edge_length <= 0;
+  const double wanted = o.quads > 0 ? o.quads : default_quad_count(mesh);
+  double h = by_count ? edge_length_for_quads(mesh, wanted) : o.edge_length;
   std::optional<Feasible> f;
   for (int insertion = 0; insertion < 4 && !f; ++insertion) {
     std::vector<uint32_t> zero;
-    f = feasible_corners(mesh, labels, meta, o, report, zero);
+    f = feasible_corners(mesh, labels, meta, o, h, report, zero);
     if (!f && !insert_on_zero_edges(mesh, labels, feature, meta, zero, report)) break;
   }
   if (!f)
     throw Error(ErrorKind::layout, "E402",
                 "no corner assignment or meta-vertex insertion makes the integer lengths feasible");
 
-  const bool by_count = o.edge_length <= 0;
-  const double wanted = o.quads > 0 ? o.quads : default_quad_count(mesh);
-  double h = by_count ? edge_length_for_quads(mesh, wanted) : o.edge_length;
   if (o.improve_corners) {
     std::vector<double> targets(meta.edges.size());
     for (uint32_t e = 0; e < targets.size(); ++e) targets[e] = meta.edges[e].geodesic / h;
-    improve_corners(mesh, labels, meta, o, targets, *f, report);
+    improve_corners(mesh, labels, meta, o, h, targets, *f, report);
   }
   Layout layout;
   layout.quarter_turns = f->corners.quarter_turns;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "isoquad/error.hpp"
 #include "pipeline/sizing.hpp"
 
 namespace isoquad {
@@ -12,6 +13,77 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double mean_edge_length(const TriMesh& m) {
+  double sum = 0;
+  for (uint32_t e = 0; e < m.num_edges(); ++e) {
+    const uint32_t h = m.edge_halfedge(e);
+    sum += norm(m.position(m.to(h)) - m.position(m.from(h)));
+  }
+  return m.num_edges() ? sum / m.num_edges() : 0;
+}
+
+// A point on the subdivided surface, expressed in the component it was subdivided from.
+SurfacePoint to_component(const RefinedMesh& surface, const SurfacePoint& s) {
+  SurfacePoint out;
+  out.face = surface.base_face[s.face];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) out.bary[k] += s.bary[i] * surface.corner_bary[s.face][i][k];
+  return out;
+}
+
+}  // namespace
+
+RefinedMesh subdivide_coarse(const TriMesh& mesh, const EdgeData<char>& feature, double max_edge,
+                             EdgeData<char>& out_feature, uint32_t& levels, uint32_t max_levels) {
+  RefinedMesh r = identity_refinement(mesh);
+  out_feature = feature;
+  levels = 0;
+  while (levels < max_levels && max_edge > 0 && mean_edge_length(r.mesh) > max_edge &&
+         r.mesh.num_faces() < 250000) {
+    std::vector<uint32_t> all(r.mesh.num_edges());
+    for (uint32_t e = 0; e < all.size(); ++e) all[e] = e;
+    r = split_edges(r, all, nullptr, &out_feature);
+    ++levels;
+  }
+  return r;
+}
+
+namespace {
+
+// The stages from segmentation on, on the (possibly subdivided) surface already in `run`.
+void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
+  auto t0 = Clock::now();
+  const TriMesh& surface = run.surface.mesh;
+  run.seg = segment(surface, run.surface_feature, SegmentOptions::sized(h, o.patches, o.seed));
+  run.segment_seconds += seconds_since(t0);
+  if (o.last == Stage::segment) return;
+
+  LayoutOptions lo = o.layout;
+  lo.edge_length = o.edge_length > 0 ? h : 0;
+  lo.quads = o.edge_length > 0 ? 0 : (o.quads > 0 ? o.quads * run.area_share : 0);
+  t0 = Clock::now();
+  run.layout_report = {};
+  run.layout = solve_layout(run.seg.refined.mesh, run.seg.labels, run.seg.feature, run.seg.meta, lo,
+                            run.layout_report);
+  run.layout_seconds += seconds_since(t0);
+  if (o.last == Stage::layout) return;
+
+  t0 = Clock::now();
+  run.param_report = {};
+  run.param = parametrize(run.seg.refined.mesh, run.seg.labels, run.seg.meta, run.layout, o.param,
+                          run.param_report);
+  run.param_seconds += seconds_since(t0);
+  if (o.last == Stage::param) return;
+
+  t0 = Clock::now();
+  run.quads = extract_quads(run.seg.refined, surface, run.seg.labels, run.seg.meta, run.layout,
+                            run.param, run.extract_report);
+  if (o.smooth > 0) smooth_quads(run.quads, surface, run.seg.meta, o.smooth, run.smooth_report);
+  if (run.subdivisions > 0)
+    for (SurfacePoint& p : run.quads.surface) p = to_component(run.surface, p);
+  run.extract_seconds = seconds_since(t0);
 }
 
 }  // namespace
@@ -25,32 +97,25 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   run.area_share = total_area > 0 ? surface_area(comp.mesh) / total_area : 1.0;
   const double h = component_edge_length(comp.mesh, run.area_share, {o.edge_length, o.quads},
                                          prep.normalization.scale);
-  auto t0 = Clock::now();
-  run.seg = segment(comp.mesh, comp.feature, SegmentOptions::sized(h, o.patches, o.seed));
-  run.segment_seconds = seconds_since(t0);
-  if (o.last == Stage::segment) return run;
-
-  LayoutOptions lo = o.layout;
-  lo.edge_length = o.edge_length > 0 ? h : 0;
-  lo.quads = o.edge_length > 0 ? 0 : (o.quads > 0 ? o.quads * run.area_share : 0);
-  t0 = Clock::now();
-  run.layout = solve_layout(run.seg.refined.mesh, run.seg.labels, run.seg.feature, run.seg.meta, lo,
-                            run.layout_report);
-  run.layout_seconds = seconds_since(t0);
-  if (o.last == Stage::layout) return run;
-
-  t0 = Clock::now();
-  run.param = parametrize(run.seg.refined.mesh, run.seg.labels, run.seg.meta, run.layout, o.param,
-                          run.param_report);
-  run.param_seconds = seconds_since(t0);
-  if (o.last == Stage::param) return run;
-
-  t0 = Clock::now();
-  run.quads = extract_quads(run.seg.refined, comp.mesh, run.seg.labels, run.seg.meta, run.layout,
-                            run.param, run.extract_report);
-  if (o.smooth > 0) smooth_quads(run.quads, comp.mesh, run.seg.meta, o.smooth, run.smooth_report);
-  run.extract_seconds = seconds_since(t0);
-  return run;
+  // A big patch with a long protrusion crowds its tip exponentially in any harmonic map; on a
+  // finer surface the crowded triangles get too small to certify (E553), and few patches on a
+  // fine surface may not be cut into disks (E201). One level coarser is tried before giving up,
+  // down to the component itself.
+  uint32_t max_levels = 64;
+  for (;;) {
+    const auto t0 = Clock::now();
+    run.surface = subdivide_coarse(comp.mesh, comp.feature, o.max_edge_ratio * h,
+                                   run.surface_feature, run.subdivisions, max_levels);
+    run.segment_seconds += seconds_since(t0);
+    try {
+      run_stages(h, o, run);
+      return run;
+    } catch (const Error& e) {
+      if ((e.code() != "E553" && e.code() != "E201") || run.subdivisions == 0) throw;
+      max_levels = run.subdivisions - 1;
+      ++run.subdivision_retreats;
+    }
+  }
 }
 
 std::vector<ComponentRun> run_pipeline(const PreparedMesh& prep, const PipelineOptions& o) {

@@ -86,6 +86,8 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     for (uint32_t v = 0; v < r.seg.meta.vertices.size(); ++v)
       if (!r.seg.meta.vertices[v].on_boundary) ++valence[std::to_string(r.layout.quarter_turns[v])];
     comps.push_back({{"component", prep.components[c].report_index},
+                     {"subdivisions", r.subdivisions},
+                     {"subdivision_retreats", r.subdivision_retreats},
                      {"patches", r.seg.num_patches},
                      {"meta_vertices", r.seg.meta.vertices.size()},
                      {"meta_vertex_valence", valence},

@@ -379,7 +379,7 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
     locked.map = locked.locked;
     std::fill(locked.locked_edges.begin(), locked.locked_edges.end(), 1);
     ExtractReport er;
-    locked_quads.push_back(extract_quads(r.seg.refined, run.prep.components[r.component].mesh,
+    locked_quads.push_back(extract_quads(r.seg.refined, r.surface.mesh,
                                          r.seg.labels, r.seg.meta, r.layout, locked, er));
   }
   {

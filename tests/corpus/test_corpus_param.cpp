@@ -27,18 +27,6 @@ TEST_P(CorpusParam, CertifiedAndSeamless) {
   o.last = Stage::param;
   o.patches = k;
   o.quads = 1500;
-  if (std::string(file) == "knot1.off" && k == 8) {
-    // Known failure (issue 5 note): eight patches make long tube strips whose corners sit in
-    // clusters; laid out as near-squares, the locked map crowds triangles to zero area. The
-    // input must be rejected with E553 until the layout splits such strips.
-    try {
-      run_component(p, 0, o);
-      ADD_FAILURE() << "knot1 K=8 now parametrizes: drop this exception";
-    } catch (const Error& e) {
-      EXPECT_EQ(e.code(), "E553");
-    }
-    return;
-  }
   const ComponentRun run = run_component(p, 0, o);
   const TriMesh& mesh = run.seg.refined.mesh;
   test::expect_certified(mesh, run.seg.labels, run.seg.meta, run.layout, run.param);

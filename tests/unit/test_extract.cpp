@@ -223,3 +223,58 @@ TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {
     }
   }
 }
+
+TEST(Pipeline, CoarseComponentsAreSubdividedWithExactProvenance) {
+  const PreparedMesh prep = prepare(test::subdivided_cube(2));  // 48 triangles, edges ~0.5
+  const PreparedComponent& comp = prep.components[0];
+  uint32_t features = 0;
+  for (uint32_t e = 0; e < comp.mesh.num_edges(); ++e) features += comp.feature[e] != 0;
+  ASSERT_GT(features, 0u);  // the cube's 12 creases
+  EdgeData<char> feature;
+  uint32_t levels = 0;
+  const double mean = [&] {
+    double s = 0;
+    for (uint32_t e = 0; e < comp.mesh.num_edges(); ++e) {
+      const uint32_t h = comp.mesh.edge_halfedge(e);
+      s += norm(comp.mesh.position(comp.mesh.to(h)) - comp.mesh.position(comp.mesh.from(h)));
+    }
+    return s / comp.mesh.num_edges();
+  }();
+  const RefinedMesh r = subdivide_coarse(comp.mesh, comp.feature, mean / 3, feature, levels);
+  EXPECT_EQ(levels, 2u);  // halving twice brings the mean below a third
+  EXPECT_EQ(r.mesh.num_faces(), 16 * comp.mesh.num_faces());
+  // Every vertex is reproduced by its provenance in the component.
+  for (uint32_t v = 0; v < r.mesh.num_vertices(); ++v) {
+    const SurfacePoint s = r.vertex_origin(v);
+    const Tri& t = comp.mesh.face(s.face);
+    const Vec3 p = s.bary[0] * comp.mesh.position(t[0]) + s.bary[1] * comp.mesh.position(t[1]) +
+                   s.bary[2] * comp.mesh.position(t[2]);
+    EXPECT_LT(norm(p - r.mesh.position(v)), 1e-14);
+  }
+  // Creases are inherited by both halves, four times as many edges after two levels.
+  uint32_t sub_features = 0;
+  for (uint32_t e = 0; e < r.mesh.num_edges(); ++e) sub_features += feature[e] != 0;
+  EXPECT_EQ(sub_features, 4 * features);
+  // Already fine enough: untouched.
+  const RefinedMesh same = subdivide_coarse(comp.mesh, comp.feature, 2 * mean, feature, levels);
+  EXPECT_EQ(levels, 0u);
+  EXPECT_EQ(same.mesh.num_faces(), comp.mesh.num_faces());
+}
+
+TEST(Pipeline, QuadVerticesOnASubdividedSurfaceAreExpressedInTheInput) {
+  const PreparedMesh prep = prepare(test::subdivided_cube(1));  // 12 triangles
+  PipelineOptions o;
+  o.quads = 600;
+  const ComponentRun run = run_component(prep, 0, o);
+  EXPECT_GT(run.subdivisions, 0u);
+  const TriMesh& base = prep.components[0].mesh;
+  ASSERT_EQ(run.quads.surface.size(), run.quads.positions.size());
+  for (std::size_t v = 0; v < run.quads.positions.size(); ++v) {
+    const SurfacePoint& s = run.quads.surface[v];
+    ASSERT_LT(s.face, base.num_faces());
+    const Tri& t = base.face(s.face);
+    const Vec3 p = s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
+                   s.bary[2] * base.position(t[2]);
+    EXPECT_LT(norm(p - run.quads.positions[v]), 1e-12);
+  }
+}
