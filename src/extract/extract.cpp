@@ -43,6 +43,30 @@ class ChartIndex {
     for (const uint32_t f : faces) cells(f, [&](std::size_t c) { items_[count[c]++] = f; });
   }
 
+  // How many faces contain q under the half-open (top-left) rule: a point on an edge or a
+  // vertex shared by several faces is counted once, so a bijective map covers every point it
+  // reaches exactly once (QEx-style verification, DESIGN.md §8.4).
+  uint32_t count(const UV& q) const {
+    if (!map_ || items_.empty()) return 0;
+    const int64_t x = int64_t(std::floor(q[0])) - x0_, y = int64_t(std::floor(q[1])) - y0_;
+    if (x < 0 || y < 0 || x >= nx_ || y >= ny_) return 0;
+    const std::size_t c = std::size_t(y * nx_ + x);
+    uint32_t n = 0;
+    for (uint32_t i = start_[c]; i < start_[c + 1]; ++i) {
+      const auto& t = map_->uv[items_[i]];
+      bool in = true;
+      for (int k = 0; k < 3 && in; ++k) {
+        const UV& a = t[k];
+        const UV& b = t[(k + 1) % 3];
+        const double o = orient2d(a, b, q);
+        // On the edge: only a left edge (going down) or a top edge (going left) keeps it.
+        in = o > 0 || (o == 0 && (b[1] < a[1] || (b[1] == a[1] && b[0] < a[0])));
+      }
+      n += in;
+    }
+    return n;
+  }
+
   // A face whose uv triangle contains q (closed), with q's barycentric coordinates in it.
   template <class Accept>
   std::optional<std::pair<uint32_t, std::array<double, 3>>> locate(const UV& q,
@@ -157,6 +181,7 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
     return s;
   };
   const auto any = [](uint32_t) { return true; };
+  std::vector<char> suspect(np, 0);
   out.surface.resize(next);
   out.vertex_meta_vertex.assign(next, kInvalid);
   out.placed.assign(next, QuadMesh::Placed::meta);
@@ -172,18 +197,18 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
     }
     const Rep& r = rep[id];
     const UV q{double(r.at[0]), double(r.at[1])};
-    if (auto hit = relaxed[r.patch].locate(q, any)) {
-      out.surface[id] = surface_point(hit->first, hit->second);
-      out.placed[id] = QuadMesh::Placed::direct;
-      ++report.direct;
-      continue;
-    }
+    std::optional<std::pair<uint32_t, std::array<double, 3>>> hit = relaxed[r.patch].locate(q, any);
+    // Coverage is counted chart by chart: within one chart all faces share their corners' uv
+    // bit for bit, so the half-open rule counts every point once; across a seam the two sides
+    // agree only to rounding and the rule is not invariant under the quarter turns, so a point
+    // on a seam may count once on each side, which is not a fold.
+    uint32_t cover = relaxed[r.patch].count(q);
+    QuadMesh::Placed how = QuadMesh::Placed::direct;
     // Across the seams of the patch: the point may be covered by a neighbour whose seam
     // bulges into this rectangle. Only faces near that seam are accepted, so that two
     // meta-edges between the same patches (different transitions) cannot be confused.
-    bool found = false;
     const MetaFace& face = meta.faces[r.patch];
-    for (uint32_t i = 0; i < face.cycle.size() && !found; ++i) {
+    for (uint32_t i = 0; i < face.cycle.size(); ++i) {
       const MetaEdge& me = meta.edges[face.cycle[i].edge];
       if (me.right == kInvalid) continue;
       const bool left = me.left == r.patch;
@@ -198,23 +223,48 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
       const double s = std::clamp(((q[0] - a[0]) * lx + (q[1] - a[1]) * ly) / len2, 0.0, 1.0);
       if (std::hypot(q[0] - (a[0] + s * lx), q[1] - (a[1] + s * ly)) > 2.0) continue;
       const UV qo = apply(t, q);
-      if (auto hit = relaxed[other].locate(qo, any)) {
-        out.surface[id] = surface_point(hit->first, hit->second);
-        out.placed[id] = QuadMesh::Placed::across;
-        ++report.across;
-        found = true;
+      cover = std::max(cover, relaxed[other].count(qo));
+      if (!hit) {
+        hit = relaxed[other].locate(qo, any);
+        if (hit) how = QuadMesh::Placed::across;
       }
     }
-    if (found) continue;
-    if (auto hit = locked[r.patch].locate(q, any)) {
+    if (cover > 1) {
+      ++report.multiply_covered;
+      suspect[r.patch] = 1;
+    }
+    if (!hit) {
+      hit = locked[r.patch].locate(q, any);
+      how = QuadMesh::Placed::locked;
+    }
+    if (!hit)
+      throw Error(ErrorKind::internal, "E601",
+                  fmt::format("lattice point ({}, {}) of patch {} is not covered by the map",
+                              r.at[0], r.at[1], r.patch));
+    out.surface[id] = surface_point(hit->first, hit->second);
+    out.placed[id] = how;
+  }
+  // The verifier's verdict: a patch with a lattice point covered twice is not bijective there
+  // (which the certificate rules out); its lattice points, seams included, take the locked
+  // map's geometry, which tiles every rectangle exactly.
+  for (uint32_t p = 0; p < np; ++p) {
+    if (!suspect[p]) continue;
+    ++report.patches_locked;
+    for (const uint32_t id : grid[p]) {
+      if (id < meta.vertices.size() || out.placed[id] == QuadMesh::Placed::locked) continue;
+      const Rep& r = rep[id];
+      // The id's own representative point, expressed in patch p when it is a seam point.
+      const UV q{double(r.at[0]), double(r.at[1])};
+      auto hit = locked[r.patch].locate(q, any);
+      if (!hit) continue;  // stays where the relaxed map put it
       out.surface[id] = surface_point(hit->first, hit->second);
       out.placed[id] = QuadMesh::Placed::locked;
-      ++report.locked;
-      continue;
     }
-    throw Error(ErrorKind::internal, "E601",
-                fmt::format("lattice point ({}, {}) of patch {} is not covered by the map", r.at[0],
-                            r.at[1], r.patch));
+  }
+  for (uint32_t id = uint32_t(meta.vertices.size()); id < next; ++id) {
+    if (out.placed[id] == QuadMesh::Placed::direct) ++report.direct;
+    if (out.placed[id] == QuadMesh::Placed::across) ++report.across;
+    if (out.placed[id] == QuadMesh::Placed::locked) ++report.locked;
   }
   out.positions.resize(next);
   for (uint32_t id = 0; id < next; ++id) {

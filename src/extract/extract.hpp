@@ -33,6 +33,10 @@ struct ExtractReport {
   uint32_t across = 0;  // found across a seam, through its transition
   uint32_t locked = 0;  // placed with the locked map (fallback)
   uint32_t meta = 0;    // meta-vertices (exact)
+  // The verifier (DESIGN.md §8.4): lattice points the relaxed map covers more than once (0 for
+  // a bijective map), and patches that therefore took the locked map's geometry.
+  uint32_t multiply_covered = 0;
+  uint32_t patches_locked = 0;
   double seconds = 0;
 };
 

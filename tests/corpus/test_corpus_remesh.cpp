@@ -31,7 +31,12 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   const PreparedMesh& prep = run.prep;
   const PolyMesh& quads = run.result.quads;
   int64_t promised = 0;
-  for (const ComponentRun& r : run.runs) promised += r.layout.quads();
+  for (const ComponentRun& r : run.runs) {
+    promised += r.layout.quads();
+    // The verifier: a certified map covers every lattice point once.
+    EXPECT_EQ(r.extract_report.multiply_covered, 0u);
+    EXPECT_EQ(r.extract_report.patches_locked, 0u);
+  }
   EXPECT_EQ(int64_t(quads.num_faces()), promised);
   const QualityReport q = measure_quality(quads, &input.mesh);
   EXPECT_TRUE(q.pure_quad);

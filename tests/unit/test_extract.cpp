@@ -56,6 +56,44 @@ TEST(Extract, CubeIsSixRegularGrids) {
   EXPECT_EQ(q.valence.at(3), 8u);
 }
 
+TEST(Extract, VerifierCatchesAFoldedMapAndFallsBackToTheLockedOne) {
+  const Remeshed r = remesh_shape(test::subdivided_cube(8), 6, 6 * 36, WeightKind::mvc);
+  ASSERT_EQ(r.run.seg.num_patches, 6u);
+  EXPECT_EQ(r.run.extract_report.multiply_covered, 0u);
+  EXPECT_EQ(r.run.extract_report.patches_locked, 0u);
+  // Drag one vertex of patch 0 four lattice units across its neighbours: its stretched fan now
+  // overlaps their faces, and lattice points there are covered twice (the verifier looks only
+  // at lattice points, so the drag must reach some).
+  const TriMesh& mesh = r.run.seg.refined.mesh;
+  const FaceData<uint32_t>& labels = r.run.seg.labels;
+  uint32_t victim = kInvalid;
+  for (uint32_t v = 0; v < mesh.num_vertices() && victim == kInvalid; ++v) {
+    bool inside = !mesh.is_boundary_vertex(v);
+    mesh.for_each_outgoing(v, [&](uint32_t h) {
+      mesh.for_each_outgoing(mesh.to(h),
+                             [&](uint32_t g) { inside = inside && labels[mesh.face_of(g)] == 0; });
+    });
+    if (inside) victim = v;
+  }
+  ASSERT_NE(victim, kInvalid);
+  Param broken = r.run.param;
+  mesh.for_each_outgoing(victim, [&](uint32_t h) {
+    const uint32_t f = mesh.face_of(h);
+    for (int c = 0; c < 3; ++c)
+      if (mesh.face(f)[c] == victim) broken.map.uv[f][c][0] += 4.0;
+  });
+  ExtractReport report;
+  const QuadMesh q = extract_quads(r.run.seg.refined, r.run.surface.mesh, labels, r.run.seg.meta,
+                                   r.run.layout, broken, report);
+  EXPECT_GT(report.multiply_covered, 0u);
+  EXPECT_EQ(report.patches_locked, 1u);
+  // The locked map of a cube face is its exact grid: every quad is still a square.
+  PolyMesh quads;
+  quads.positions = q.positions;
+  for (const auto& quad : q.quads) quads.add_face({quad[0], quad[1], quad[2], quad[3]});
+  EXPECT_GT(measure_quality(quads, nullptr).sj_min, 1 - 1e-9);
+}
+
 TEST(Extract, CountsTopologyAndValencesFollowTheLayout) {
   const std::pair<const char*, PolyMesh> shapes[] = {{"torus", test::torus(48, 20)},
                                                      {"plate_with_hole", test::plate_with_hole(30)},
