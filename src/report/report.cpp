@@ -55,7 +55,7 @@ Rgb valence_color(std::size_t valence) {
     case 3:
       return {0.15, 0.35, 0.95};
     case 4:
-      return {0.85, 0.85, 0.85};
+      return {0.55, 0.55, 0.55};
     case 5:
       return {0.90, 0.15, 0.10};
     default:
@@ -266,8 +266,8 @@ std::string index_html(const nlohmann::json& report, const std::vector<std::stri
     if (f == "input.png") caption = "the input triangle mesh";
     if (f == "patches.png")
       caption =
-          "patches and meta-vertices (3 patches blue, 4 grey, 5 red, 6+ purple; white on the "
-          "boundary)";
+          "patches and meta-vertices by the number of patches meeting there (2 green, 3 blue, "
+          "4 grey, 5 red, 6+ purple; white on the mesh boundary)";
     if (f == "contours.png") caption = "integer contour lines of u and v";
     if (f == "quads.png")
       caption =
@@ -327,9 +327,13 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
   const int w = options.width, h = options.width * 5 / 6;
   std::vector<const TriMesh*> surfaces;
   Box3 box;
+  std::vector<Vec3> fit;  // every panel frames the input's vertices alike
   for (const PreparedComponent& c : run.prep.components) {
     surfaces.push_back(&c.mesh);
-    for (uint32_t v = 0; v < c.mesh.num_vertices(); ++v) box.add(c.mesh.position(v));
+    for (uint32_t v = 0; v < c.mesh.num_vertices(); ++v) {
+      box.add(c.mesh.position(v));
+      fit.push_back(c.mesh.position(v));
+    }
   }
   Camera camera;
   if (options.view)
@@ -338,19 +342,19 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
     camera = best_view(surfaces);
 
   {
-    Canvas c(w, h, box, camera);
+    Canvas c(w, h, box, camera, &fit);
     draw_input(c, run.prep, w);
     c.save_png(dir / "input.png");
     files.names.push_back("input.png");
   }
   {
-    Canvas c(w, h, box, camera);
+    Canvas c(w, h, box, camera, &fit);
     draw_patches(c, run.runs, w);
     c.save_png(dir / "patches.png");
     files.names.push_back("patches.png");
   }
   {
-    Canvas c(w, h, box, camera);
+    Canvas c(w, h, box, camera, &fit);
     draw_contours(c, run.runs, w);
     c.save_png(dir / "contours.png");
     files.names.push_back("contours.png");
@@ -359,7 +363,7 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
   for (const ComponentRun& r : run.runs) relaxed.push_back(&r.quads);
   const std::vector<double> relaxed_sj = surface_scaled_jacobians(run.result.quads, input);
   {
-    Canvas c(w, h, box, camera);
+    Canvas c(w, h, box, camera, &fit);
     draw_quads(c, relaxed, relaxed_sj, w);
     c.save_png(dir / "quads.png");
     files.names.push_back("quads.png");
@@ -379,8 +383,8 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
     locked.map = locked.locked;
     std::fill(locked.locked_edges.begin(), locked.locked_edges.end(), 1);
     ExtractReport er;
-    locked_quads.push_back(extract_quads(r.seg.refined, r.surface.mesh,
-                                         r.seg.labels, r.seg.meta, r.layout, locked, er));
+    locked_quads.push_back(extract_quads(r.seg.refined, r.surface.mesh, r.seg.labels, r.seg.meta,
+                                         r.layout, locked, er));
   }
   {
     std::vector<const QuadMesh*> parts;
@@ -389,7 +393,7 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
     auto folded = [](const std::vector<double>& sj) {
       return std::count_if(sj.begin(), sj.end(), [](double s) { return s <= 0; });
     };
-    Canvas left(w, h, box, camera), right(w, h, box, camera);
+    Canvas left(w, h, box, camera, &fit), right(w, h, box, camera, &fit);
     draw_quads(left, parts, locked_sj, w);
     draw_quads(right, relaxed, relaxed_sj, w);
     left.caption(fmt::format("locked seams: {} folded quads", folded(locked_sj)));

@@ -41,23 +41,34 @@ Rgb distinct_color(uint32_t i) {
 
 namespace {
 
-// An orthographic view: picture axes and the scale that fits `box` (5% margin).
+// An orthographic view: picture axes and the scale that fits `box` (5% margin), or, when
+// points are given, their projection (tighter: the box's corners overstate most shapes).
 struct ViewBasis {
   Vec3 right, up, forward, center;
   double scale = 1;
-  ViewBasis(int width, int height, const Box3& box, const Camera& camera) {
+  ViewBasis(int width, int height, const Box3& box, const Camera& camera,
+            const std::vector<Vec3>* points = nullptr) {
     forward = normalized(camera.direction);
     right = normalized(cross(forward, camera.up));
     if (squared_norm(right) == 0) right = normalized(cross(forward, Vec3{1, 0, 0}));
     up = cross(right, forward);
     center = box.center();
-    double ext_x = 1e-300, ext_y = 1e-300;
-    for (int i = 0; i < 8; ++i) {
-      const Vec3 p{i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y,
-                   i & 4 ? box.hi.z : box.lo.z};
-      ext_x = std::max(ext_x, std::fabs(dot(p - center, right)));
-      ext_y = std::max(ext_y, std::fabs(dot(p - center, up)));
+    double lo_x = INFINITY, hi_x = -INFINITY, lo_y = INFINITY, hi_y = -INFINITY;
+    auto take = [&](const Vec3& p) {
+      const double x = dot(p - center, right), y = dot(p - center, up);
+      lo_x = std::min(lo_x, x), hi_x = std::max(hi_x, x);
+      lo_y = std::min(lo_y, y), hi_y = std::max(hi_y, y);
+    };
+    if (points && !points->empty()) {
+      for (const Vec3& p : *points) take(p);
+    } else {
+      for (int i = 0; i < 8; ++i)
+        take({i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y,
+              i & 4 ? box.hi.z : box.lo.z});
     }
+    center = center + (0.5 * (lo_x + hi_x)) * right + (0.5 * (lo_y + hi_y)) * up;
+    const double ext_x = std::max(0.5 * (hi_x - lo_x), 1e-300),
+                 ext_y = std::max(0.5 * (hi_y - lo_y), 1e-300);
     scale = 0.95 * std::min(width / (2 * ext_x), height / (2 * ext_y));
   }
 };
@@ -136,9 +147,10 @@ Camera best_view(const std::vector<const TriMesh*>& meshes) {
   return best;
 }
 
-Canvas::Canvas(int width, int height, const Box3& box, const Camera& camera)
+Canvas::Canvas(int width, int height, const Box3& box, const Camera& camera,
+               const std::vector<Vec3>* fit)
     : w_(width), h_(height), surface_(std::make_unique<Surface>()) {
-  const ViewBasis b(width, height, box, camera);
+  const ViewBasis b(width, height, box, camera, fit);
   forward_ = b.forward;
   right_ = b.right;
   up_ = b.up;

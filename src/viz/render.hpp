@@ -37,8 +37,10 @@ Camera best_view(const std::vector<const TriMesh*>& meshes);
 
 class Canvas {
  public:
-  // Fits `box` into a width x height picture seen along `camera`.
-  Canvas(int width, int height, const Box3& box, const Camera& camera);
+  // Fits `box` into a width x height picture seen along `camera`; or, given `fit`, fits those
+  // points' projection (a tighter frame).
+  Canvas(int width, int height, const Box3& box, const Camera& camera,
+         const std::vector<Vec3>* fit = nullptr);
   ~Canvas();
   Canvas(const Canvas&) = delete;
   Canvas& operator=(const Canvas&) = delete;
