@@ -158,15 +158,22 @@ Outcome solve_uniform(const Context& ctx, double lambda) {
   return out;
 }
 
-// The paper's weight adjustment: one weight for every seam edge, bisected (in log scale) between
-// 1 and max_stiffness down to the smallest that leaves no flipped triangle.
+// The paper's weight adjustment: one weight for every seam edge, raised from max_stiffness until
+// no triangle flips, then bisected (in log scale) down to the smallest that leaves none.
 Outcome relax_bisection(const Context& ctx) {
   Outcome low = solve_uniform(ctx, 1.0);
   ctx.report.flipped_unstiffened = low.cert.flipped + low.cert.degenerate;
   if (low.ok) return low;
-  Outcome best = solve_uniform(ctx, ctx.options.max_stiffness);
-  if (!best.ok) return best;
+  // The upper bracket: weights large enough to leave no flip. The map tends to the (injective)
+  // locked map as the weight grows, so raising it by 100 at a time ends; 1e12 is the limit.
   double lo = 0, hi = std::log(ctx.options.max_stiffness);
+  Outcome best = solve_uniform(ctx, std::exp(hi));
+  while (!best.ok && hi < std::log(1e12)) {
+    lo = hi;
+    hi += std::log(100.0);
+    best = solve_uniform(ctx, std::exp(hi));
+  }
+  if (!best.ok) return best;
   for (uint32_t step = 0; step < ctx.options.bisection_steps; ++step) {
     const double mid = 0.5 * (lo + hi);
     Outcome o = solve_uniform(ctx, std::exp(mid));

@@ -34,7 +34,7 @@ struct ParamOptions {
   WeightKind weights = WeightKind::smvc;
   RelaxMode relax = RelaxMode::adaptive;
   uint32_t max_iterations = 12;  // adaptive solves before everything is locked
-  double growth = 8;             // stiffness factor per adaptive step
+  double growth = 3;             // stiffness factor per adaptive step
   double max_stiffness = 1e4;    // a seam edge reaching it gets its meta-edge locked
   uint32_t rings = 3;            // seam edges within this many face rings of a flip are stiffened
   uint32_t max_raises = 2;       // stiffenings of a meta-edge before it is locked instead
