@@ -220,6 +220,14 @@ TEST(Cli, RemeshReportFolderAndPageInChromium) {
   ASSERT_EQ(v.status, 0) << v.err;
   EXPECT_EQ(isoquad::test::expect_valid_report(dir / "front").at("view"),
             nlohmann::json::parse("[0.0, 0.0, -1.0]"));
+  // Pictures are deterministic: a second run draws the same bytes.
+  const CliRun again = run("remesh " + in + " -o " + out.string() + " --quads 300 --view 0 0 -1 " +
+                           "--report " + (dir / "again").string() + " --report-width 300 -q");
+  ASSERT_EQ(again.status, 0) << again.err;
+  for (const char* f :
+       {"input.png", "patches.png", "contours.png", "quads.png", "layout.svg", "weights.png"})
+    EXPECT_EQ(isoquad::test::slurp(dir / "front" / f), isoquad::test::slurp(dir / "again" / f))
+        << f;
 
   const char* chromium = "/usr/bin/chromium";
   if (!std::filesystem::exists(chromium)) {
