@@ -26,6 +26,66 @@ struct Feasible {
   std::vector<SideRow> rows;
 };
 
+// A cheap first repair: patches along the forced-zero meta-edges try their next candidates,
+// one at a time, in patch order; a change is kept when it shrinks the forced-zero set without
+// leaving the valence bounds. Each try is one exact feasibility test (an LP, milliseconds),
+// against a second for the feasibility-aware ILP that remains the fallback.
+bool greedy_feasible(const MetaMesh& meta, const std::vector<std::vector<CornerCandidate>>& cands,
+                     Feasible& f, std::vector<uint32_t> zero, LayoutReport& report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint32_t n = uint32_t(meta.edges.size());
+  auto valences_ok = [&](const std::vector<std::array<uint32_t, 4>>& corners) {
+    const std::vector<int> a = quarter_turns(meta, corners);
+    for (uint32_t v = 0; v < a.size(); ++v) {
+      const bool b = meta.vertices[v].on_boundary;
+      if (a[v] < (b ? 1 : 3) || a[v] > (b ? 4 : 6)) return false;
+    }
+    return true;
+  };
+  uint32_t changed = 0;
+  bool feasible = false;
+  for (int round = 0; round < 3 && !feasible && !zero.empty(); ++round) {
+    std::vector<uint32_t> patches;
+    for (const uint32_t e : zero) {
+      patches.push_back(meta.edges[e].left);
+      if (meta.edges[e].right != kInvalid) patches.push_back(meta.edges[e].right);
+    }
+    std::sort(patches.begin(), patches.end());
+    patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+    bool progress = false;
+    for (const uint32_t p : patches) {
+      if (feasible) break;
+      for (uint32_t k = 0; k < cands[p].size(); ++k) {
+        const CornerCandidate& c = cands[p][k];
+        if (c.items == f.corners.corners[p]) continue;
+        auto corners = f.corners.corners;
+        corners[p] = c.items;
+        if (!valences_ok(corners)) continue;
+        const auto rows = side_equations(meta, item_sides(meta, corners));
+        const Feasibility t = check_feasibility(n, rows);
+        if (!t.feasible && t.forced_zero.size() >= zero.size()) continue;
+        f.corners.corners = corners;
+        if (p < f.corners.chosen.size()) f.corners.chosen[p] = k;
+        zero = t.forced_zero;
+        feasible = t.feasible;
+        progress = true;
+        ++changed;
+        break;
+      }
+    }
+    if (!progress) break;
+  }
+  report.corner_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!feasible) return false;
+  f.corners.quarter_turns = quarter_turns(meta, f.corners.corners);
+  f.sides = item_sides(meta, f.corners.corners);
+  f.rows = side_equations(meta, f.sides);
+  report.repairs.push_back(
+      fmt::format("corners of {} patches along them re-chosen one by one", changed));
+  return true;
+}
+
 // Corners whose side equations admit positive lengths: the plain choice if it is feasible, else
 // the feasibility-aware ILP over the best candidates, then over many more. Empty if none is
 // found; `zero` then holds the forced-zero meta-edges of the plain choice.
@@ -60,6 +120,7 @@ std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uin
       zero = test.forced_zero;
       report.repairs.push_back(
           fmt::format("the best corners force {} meta-edges to length 0", zero.size()));
+      if (greedy_feasible(meta, cands, f, test.forced_zero, report)) return f;
     }
   }
   return std::nullopt;

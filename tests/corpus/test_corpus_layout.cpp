@@ -88,3 +88,21 @@ TEST(CorpusLayoutImprove, CornersRefinedAgainstTheLengths) {
     EXPECT_LT(objective[1], 0.8 * objective[0]);
   }
 }
+
+// Where the best corners force meta-edges to zero, re-choosing the corners of the patches
+// along them one at a time is usually enough, and much cheaper than the feasibility-aware ILP.
+TEST(LayoutRepair, GreedyCornerRepairOnTheSampleFandisk) {
+  const PreparedMesh p = prepare(read_mesh(test::data_dir() / "fandisk.off").mesh);
+  const PreparedComponent& c = p.components.at(0);
+  const SegmentOptions so = SegmentOptions::sized(edge_length_for_quads(c.mesh, 500));
+  SegmentResult seg = segment(c.mesh, c.feature, so);
+  LayoutOptions lo;
+  lo.quads = 500;
+  LayoutReport report;
+  const Layout l = solve_layout(seg.refined.mesh, seg.labels, seg.feature, seg.meta, lo, report);
+  test::expect_valid_layout(seg.meta, l);
+  ASSERT_EQ(report.repairs.size(), 2u);
+  EXPECT_NE(report.repairs[0].find("force"), std::string::npos) << report.repairs[0];
+  EXPECT_NE(report.repairs[1].find("one by one"), std::string::npos) << report.repairs[1];
+  EXPECT_EQ(report.corner_rounds, 1u);  // the ILP repair did not run
+}
