@@ -56,9 +56,9 @@ Runner add_layout(CLI::App& app) {
       // The surface the pipeline works on (coarse components subdivided, pipeline.hpp).
       EdgeData<char> feature;
       uint32_t subdivisions = 0;
-      const RefinedMesh surface = subdivide_coarse(
-          c.mesh, c.feature, PipelineOptions{}.max_edge_ratio * so.vsa.target_edge_length, feature,
-          subdivisions);
+      const RefinedMesh surface =
+          subdivide_coarse(c.mesh, c.feature, so.vsa.target_edge_length,
+                           PipelineOptions{}.triangles_per_quad, feature, subdivisions);
       SegmentResult seg = segment(surface.mesh, feature, so);
       LayoutOptions lo;
       lo.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;

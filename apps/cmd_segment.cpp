@@ -49,9 +49,9 @@ Runner add_segment(CLI::App& app) {
       // The surface the pipeline works on (coarse components subdivided, pipeline.hpp).
       EdgeData<char> feature;
       uint32_t subdivisions = 0;
-      const RefinedMesh surface = subdivide_coarse(
-          c.mesh, c.feature, PipelineOptions{}.max_edge_ratio * so.vsa.target_edge_length, feature,
-          subdivisions);
+      const RefinedMesh surface =
+          subdivide_coarse(c.mesh, c.feature, so.vsa.target_edge_length,
+                           PipelineOptions{}.triangles_per_quad, feature, subdivisions);
       SegmentResult seg = segment(surface.mesh, feature, so);
       const MetaMesh& mm = seg.meta;
       summary.push_back(

@@ -15,15 +15,6 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-double mean_edge_length(const TriMesh& m) {
-  double sum = 0;
-  for (uint32_t e = 0; e < m.num_edges(); ++e) {
-    const uint32_t h = m.edge_halfedge(e);
-    sum += norm(m.position(m.to(h)) - m.position(m.from(h)));
-  }
-  return m.num_edges() ? sum / m.num_edges() : 0;
-}
-
 // A point on the subdivided surface, expressed in the component it was subdivided from.
 SurfacePoint to_component(const RefinedMesh& surface, const SurfacePoint& s) {
   SurfacePoint out;
@@ -35,13 +26,14 @@ SurfacePoint to_component(const RefinedMesh& surface, const SurfacePoint& s) {
 
 }  // namespace
 
-RefinedMesh subdivide_coarse(const TriMesh& mesh, const EdgeData<char>& feature, double max_edge,
-                             EdgeData<char>& out_feature, uint32_t& levels, uint32_t max_levels) {
+RefinedMesh subdivide_coarse(const TriMesh& mesh, const EdgeData<char>& feature, double h,
+                             double triangles_per_quad, EdgeData<char>& out_feature,
+                             uint32_t& levels, uint32_t max_levels) {
   RefinedMesh r = identity_refinement(mesh);
   out_feature = feature;
   levels = 0;
-  while (levels < max_levels && max_edge > 0 && mean_edge_length(r.mesh) > max_edge &&
-         r.mesh.num_faces() < 250000) {
+  const double wanted = h > 0 ? triangles_per_quad * surface_area(mesh) / (h * h) : 0;
+  while (levels < max_levels && r.mesh.num_faces() < wanted && r.mesh.num_faces() < 250000) {
     std::vector<uint32_t> all(r.mesh.num_edges());
     for (uint32_t e = 0; e < all.size(); ++e) all[e] = e;
     r = split_edges(r, all, nullptr, &out_feature);
@@ -104,7 +96,7 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   uint32_t max_levels = 64;
   for (;;) {
     const auto t0 = Clock::now();
-    run.surface = subdivide_coarse(comp.mesh, comp.feature, o.max_edge_ratio * h,
+    run.surface = subdivide_coarse(comp.mesh, comp.feature, h, o.triangles_per_quad,
                                    run.surface_feature, run.subdivisions, max_levels);
     run.segment_seconds += seconds_since(t0);
     try {

@@ -26,11 +26,12 @@ struct PipelineOptions {
   LayoutOptions layout;  // corners and length solver (size fields are set per component)
   ParamOptions param;
   uint32_t smooth = 0;  // tangential smoothing iterations after extraction
-  // Midpoint subdivisions of a coarse component until its mean edge is at most this fraction of
-  // the target quad edge (0: never). The map is linear on each triangle, so on a coarse input
-  // every quad straddling two big triangles bends with the map's kink between them; finer
-  // triangles let the harmonic map be smooth. The geometry does not change.
-  double max_edge_ratio = 0.5;
+  // Midpoint subdivisions of a coarse component until it has this many triangles per target
+  // quad (0: never; 8 is also the default size's density, so default runs subdivide only small
+  // inputs). The map is linear on each triangle, so on a coarse input every quad straddling two
+  // big triangles bends with the map's kink between them; finer triangles let the harmonic map
+  // be smooth. The geometry does not change.
+  double triangles_per_quad = 8;
   Stage last = Stage::extract;
 };
 
@@ -57,11 +58,12 @@ struct ComponentRun {
 // Runs the stages up to options.last on component `c` of `prep`.
 ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& options);
 
-// Midpoint (1-to-4) subdivisions of `mesh` while its mean edge length exceeds max_edge, at most
-// max_levels of them and while under 250,000 faces; features are inherited by both halves.
-RefinedMesh subdivide_coarse(const TriMesh& mesh, const EdgeData<char>& feature, double max_edge,
-                             EdgeData<char>& out_feature, uint32_t& levels,
-                             uint32_t max_levels = 64);
+// Midpoint (1-to-4) subdivisions of `mesh` while it has fewer than triangles_per_quad
+// triangles per quad of edge h (area / h^2 quads), at most max_levels of them and while under
+// 250,000 faces; features are inherited by both halves.
+RefinedMesh subdivide_coarse(const TriMesh& mesh, const EdgeData<char>& feature, double h,
+                             double triangles_per_quad, EdgeData<char>& out_feature,
+                             uint32_t& levels, uint32_t max_levels = 64);
 
 // Every component, in order.
 std::vector<ComponentRun> run_pipeline(const PreparedMesh& prep, const PipelineOptions& options);

@@ -8,6 +8,7 @@
 #include "isoquad/remesh.hpp"
 #include "metrics/quality.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
 #include "shapes.hpp"
 
@@ -270,16 +271,10 @@ TEST(Pipeline, CoarseComponentsAreSubdividedWithExactProvenance) {
   ASSERT_GT(features, 0u);  // the cube's 12 creases
   EdgeData<char> feature;
   uint32_t levels = 0;
-  const double mean = [&] {
-    double s = 0;
-    for (uint32_t e = 0; e < comp.mesh.num_edges(); ++e) {
-      const uint32_t h = comp.mesh.edge_halfedge(e);
-      s += norm(comp.mesh.position(comp.mesh.to(h)) - comp.mesh.position(comp.mesh.from(h)));
-    }
-    return s / comp.mesh.num_edges();
-  }();
-  const RefinedMesh r = subdivide_coarse(comp.mesh, comp.feature, mean / 3, feature, levels);
-  EXPECT_EQ(levels, 2u);  // halving twice brings the mean below a third
+  // Quads of edge h: area / h^2 of them; 8 triangles each needs 16 x 48 faces or more.
+  const double h = std::sqrt(surface_area(comp.mesh) / 40.0);
+  const RefinedMesh r = subdivide_coarse(comp.mesh, comp.feature, h, 8, feature, levels);
+  EXPECT_EQ(levels, 2u);  // 48 -> 192 -> 768 faces, at least 8 x 40 = 320
   EXPECT_EQ(r.mesh.num_faces(), 16 * comp.mesh.num_faces());
   // Every vertex is reproduced by its provenance in the component.
   for (uint32_t v = 0; v < r.mesh.num_vertices(); ++v) {
@@ -294,7 +289,7 @@ TEST(Pipeline, CoarseComponentsAreSubdividedWithExactProvenance) {
   for (uint32_t e = 0; e < r.mesh.num_edges(); ++e) sub_features += feature[e] != 0;
   EXPECT_EQ(sub_features, 4 * features);
   // Already fine enough: untouched.
-  const RefinedMesh same = subdivide_coarse(comp.mesh, comp.feature, 2 * mean, feature, levels);
+  const RefinedMesh same = subdivide_coarse(comp.mesh, comp.feature, 4 * h, 8, feature, levels);
   EXPECT_EQ(levels, 0u);
   EXPECT_EQ(same.mesh.num_faces(), comp.mesh.num_faces());
 }
