@@ -152,6 +152,27 @@ void draw_patches(Canvas& canvas, const std::vector<ComponentRun>& runs, double 
       canvas.point(r.seg.refined.mesh.position(v.vertex),
                    v.on_boundary ? Rgb{1, 1, 1} : valence_color(v.wedge_patches.size()),
                    std::max(3.5, width / 220.0));
+  // The layout's corners: a small black dot just inside each patch at its four corners.
+  for (const ComponentRun& r : runs) {
+    if (r.layout.charts.empty()) continue;
+    const TriMesh& m = r.seg.refined.mesh;
+    const MetaMesh& mm = r.seg.meta;
+    auto step = [&](const BoundaryItem& item, bool from_start) {
+      const std::vector<uint32_t>& vs = mm.edges[item.edge].vertices;
+      const bool first = item.forward == from_start;  // the polyline end at the item's start
+      return m.position(first ? vs[1] : vs[vs.size() - 2]);
+    };
+    for (uint32_t p = 0; p < r.layout.charts.size(); ++p) {
+      const MetaFace& face = mm.faces[p];
+      const uint32_t n = uint32_t(face.cycle.size());
+      for (const uint32_t i : r.layout.charts[p].corners) {
+        const Vec3 c = m.position(mm.vertices[face.start_vertex(i, mm.edges)].vertex);
+        const Vec3 a = step(face.cycle[i], true), b = step(face.cycle[(i + n - 1) % n], false);
+        canvas.point(c + 0.35 * ((a - c) + (b - c)), {0.05, 0.05, 0.05},
+                     std::max(1.8, width / 500.0));
+      }
+    }
+  }
 }
 
 // The integer contour lines of u and v, face by face in each face's own chart.
@@ -267,7 +288,8 @@ std::string index_html(const nlohmann::json& report, const std::vector<std::stri
     if (f == "patches.png")
       caption =
           "patches and meta-vertices by the number of patches meeting there (2 green, 3 blue, "
-          "4 grey, 5 red, 6+ purple; white on the mesh boundary)";
+          "4 grey, 5 red, 6+ purple; white on the mesh boundary); a small black dot inside a "
+          "patch marks each of its four layout corners";
     if (f == "contours.png") caption = "integer contour lines of u and v";
     if (f == "quads.png")
       caption =
