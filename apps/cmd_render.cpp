@@ -22,19 +22,27 @@ Runner add_render(CLI::App& app) {
   sub->add_option("mesh", a->mesh, "Mesh (OBJ, OFF, PLY, STL)")->required();
   sub->add_option("-o,--output", a->output, "PNG file")->required();
   sub->add_flag("--wireframe", a->wireframe, "Draw every edge");
-  sub->add_option("--view", a->view, "Viewing direction x y z (towards the model)")->expected(3);
+  sub->add_option("--view", a->view,
+                  "Viewing direction x y z (towards the model; default: the three-quarter view "
+                  "that shows the most surface)")
+      ->expected(3);
   sub->add_option("--size", a->width, "Width in pixels")->capture_default_str();
   return [a] {
     const ReadResult r = read_mesh(a->mesh);
     const PolyMesh& m = r.mesh;
     Box3 box;
     for (const Vec3& p : m.positions) box.add(p);
-    Camera cam;
-    if (a->view.size() == 3) cam.direction = {a->view[0], a->view[1], a->view[2]};
-    Canvas canvas(a->width, a->width * 5 / 6, box, cam);
     std::vector<std::vector<uint32_t>> polys(m.num_faces());
-    for (std::size_t f = 0; f < m.num_faces(); ++f)
+    std::vector<std::array<Vec3, 3>> fan;
+    for (std::size_t f = 0; f < m.num_faces(); ++f) {
       polys[f].assign(m.face(f).begin(), m.face(f).end());
+      for (std::size_t i = 1; i + 1 < polys[f].size(); ++i)
+        fan.push_back(
+            {m.positions[polys[f][0]], m.positions[polys[f][i]], m.positions[polys[f][i + 1]]});
+    }
+    Camera cam = best_view(fan);
+    if (a->view.size() == 3) cam.direction = {a->view[0], a->view[1], a->view[2]};
+    Canvas canvas(a->width, a->width * 5 / 6, box, cam, &m.positions);
     canvas.fill_polygons(m.positions, polys, [&](uint32_t f) {
       return m.face_group.empty() ? Rgb{0.75, 0.78, 0.85} : [&] {
         const Rgb c = distinct_color(uint32_t(m.face_group[f]));

@@ -75,62 +75,58 @@ struct ViewBasis {
 
 }  // namespace
 
-double visible_area_fraction(const std::vector<const TriMesh*>& meshes, const Camera& camera) {
+double visible_area_fraction(const std::vector<std::array<Vec3, 3>>& triangles,
+                             const Camera& camera) {
   Box3 box;
-  for (const TriMesh* m : meshes)
-    for (uint32_t v = 0; v < m->num_vertices(); ++v) box.add(m->position(v));
+  for (const auto& t : triangles)
+    for (const Vec3& p : t) box.add(p);
   constexpr int kRes = 192;
   const ViewBasis b(kRes, kRes, box, camera);
   std::vector<float> depth(kRes * kRes, INFINITY);
-  std::vector<uint64_t> id(kRes * kRes, ~uint64_t(0));
+  std::vector<uint32_t> id(kRes * kRes, kInvalid);
+  std::vector<double> areas(triangles.size());
   double total = 0;
-  std::vector<std::vector<double>> areas(meshes.size());
-  for (std::size_t k = 0; k < meshes.size(); ++k) {
-    const TriMesh& m = *meshes[k];
-    areas[k].resize(m.num_faces());
-    for (uint32_t f = 0; f < m.num_faces(); ++f) {
-      const Tri& t = m.face(f);
-      Vec3 p[3];
-      for (int i = 0; i < 3; ++i) {
-        const Vec3 d = m.position(t[i]) - b.center;
-        p[i] = {0.5 * kRes + b.scale * dot(d, b.right), 0.5 * kRes - b.scale * dot(d, b.up),
-                dot(d, b.forward)};
-      }
-      areas[k][f] = 0.5 * norm(cross(m.position(t[1]) - m.position(t[0]),
-                                     m.position(t[2]) - m.position(t[0])));
-      total += areas[k][f];
-      const double area =
-          (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
-      if (area == 0) continue;
-      const int x0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
-      const int x1 = std::min(kRes - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
-      const int y0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
-      const int y1 = std::min(kRes - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-          const double px = x + 0.5, py = y + 0.5;
-          const double w0 = ((p[1].x - px) * (p[2].y - py) - (p[1].y - py) * (p[2].x - px)) / area;
-          const double w1 = ((p[2].x - px) * (p[0].y - py) - (p[2].y - py) * (p[0].x - px)) / area;
-          const double w2 = 1 - w0 - w1;
-          if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-          const float z = float(w0 * p[0].z + w1 * p[1].z + w2 * p[2].z);
-          const std::size_t i = std::size_t(y) * kRes + x;
-          if (z < depth[i]) {
-            depth[i] = z;
-            id[i] = (uint64_t(k) << 32) | f;
-          }
-        }
+  for (uint32_t f = 0; f < triangles.size(); ++f) {
+    const auto& t = triangles[f];
+    Vec3 p[3];
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 d = t[i] - b.center;
+      p[i] = {0.5 * kRes + b.scale * dot(d, b.right), 0.5 * kRes - b.scale * dot(d, b.up),
+              dot(d, b.forward)};
     }
+    areas[f] = 0.5 * norm(cross(t[1] - t[0], t[2] - t[0]));
+    total += areas[f];
+    const double area =
+        (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+    if (area == 0) continue;
+    const int x0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
+    const int x1 = std::min(kRes - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
+    const int y0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
+    const int y1 = std::min(kRes - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const double px = x + 0.5, py = y + 0.5;
+        const double w0 = ((p[1].x - px) * (p[2].y - py) - (p[1].y - py) * (p[2].x - px)) / area;
+        const double w1 = ((p[2].x - px) * (p[0].y - py) - (p[2].y - py) * (p[0].x - px)) / area;
+        const double w2 = 1 - w0 - w1;
+        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+        const float z = float(w0 * p[0].z + w1 * p[1].z + w2 * p[2].z);
+        const std::size_t i = std::size_t(y) * kRes + x;
+        if (z < depth[i]) {
+          depth[i] = z;
+          id[i] = f;
+        }
+      }
   }
   std::sort(id.begin(), id.end());
   id.erase(std::unique(id.begin(), id.end()), id.end());
   double seen = 0;
-  for (const uint64_t i : id)
-    if (i != ~uint64_t(0)) seen += areas[i >> 32][i & 0xFFFFFFFFu];
+  for (const uint32_t i : id)
+    if (i != kInvalid) seen += areas[i];
   return total > 0 ? seen / total : 0;
 }
 
-Camera best_view(const std::vector<const TriMesh*>& meshes) {
+Camera best_view(const std::vector<std::array<Vec3, 3>>& triangles) {
   Camera best;
   double best_score = -1;
   for (const double elevation : {-30.0, 30.0})
@@ -138,13 +134,23 @@ Camera best_view(const std::vector<const TriMesh*>& meshes) {
       const double az = (22.5 + 45.0 * k) * M_PI / 180, el = elevation * M_PI / 180;
       Camera c;
       c.direction = {-std::cos(el) * std::sin(az), std::sin(el), -std::cos(el) * std::cos(az)};
-      const double score = visible_area_fraction(meshes, c);
+      const double score = visible_area_fraction(triangles, c);
       if (score > best_score + 1e-3) {
         best_score = score;
         best = c;
       }
     }
   return best;
+}
+
+Camera best_view(const std::vector<const TriMesh*>& meshes) {
+  std::vector<std::array<Vec3, 3>> triangles;
+  for (const TriMesh* m : meshes)
+    for (uint32_t f = 0; f < m->num_faces(); ++f) {
+      const Tri& t = m->face(f);
+      triangles.push_back({m->position(t[0]), m->position(t[1]), m->position(t[2])});
+    }
+  return best_view(triangles);
 }
 
 Canvas::Canvas(int width, int height, const Box3& box, const Camera& camera,

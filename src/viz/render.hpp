@@ -27,12 +27,14 @@ struct Camera {
   Vec3 up{0, 1, 0};
 };
 
-// The fraction of the surface's area a viewer sees along `camera` (faces that show at least one
-// pixel of a small depth buffer count whole).
-double visible_area_fraction(const std::vector<const TriMesh*>& meshes, const Camera& camera);
+// The fraction of the surface's area a viewer sees along `camera` (triangles that show at least
+// one pixel of a small depth buffer count whole).
+double visible_area_fraction(const std::vector<std::array<Vec3, 3>>& triangles,
+                             const Camera& camera);
 
 // The three-quarter view (eight azimuths around `up`, seen from 30 degrees above or below) that
 // shows the most surface; ties go to the first candidate, so the choice is deterministic.
+Camera best_view(const std::vector<std::array<Vec3, 3>>& triangles);
 Camera best_view(const std::vector<const TriMesh*>& meshes);
 
 class Canvas {

@@ -254,3 +254,37 @@ TEST(Cli, RemeshReportFolderAndPageInChromium) {
             std::string::npos);
   std::filesystem::remove_all(dir);
 }
+
+// `isoquad render`: any mesh, triangles or polygons, to a valid PNG; deterministic; --view
+// changes the picture.
+TEST(Cli, RenderTrianglesAndQuads) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("isoquad_cli_render_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string tri = (isoquad::test::data_dir() / "fandisk.off").string();
+  const auto quads = write_temp("isoquad_cli_render_cube.obj",
+                                "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\n"
+                                "v 0 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\n"
+                                "f 4 1 5 8\n");
+  for (const std::string& in : {tri, quads.string()}) {
+    SCOPED_TRACE(in);
+    const CliRun a =
+        run("render " + in + " -o " + (dir / "a.png").string() + " --wireframe --size 240");
+    ASSERT_EQ(a.status, 0) << a.err;
+    isoquad::test::expect_valid_png(dir / "a.png");
+    const CliRun b =
+        run("render " + in + " -o " + (dir / "b.png").string() + " --wireframe --size 240");
+    ASSERT_EQ(b.status, 0) << b.err;
+    EXPECT_EQ(isoquad::test::slurp(dir / "a.png"), isoquad::test::slurp(dir / "b.png"));
+    const CliRun c = run("render " + in + " -o " + (dir / "c.png").string() +
+                         " --wireframe --size 240 --view 0 -1 0");
+    ASSERT_EQ(c.status, 0) << c.err;
+    EXPECT_NE(isoquad::test::slurp(dir / "a.png"), isoquad::test::slurp(dir / "c.png"));
+  }
+  const CliRun bad =
+      run("render " + (dir / "missing.off").string() + " -o " + (dir / "x.png").string());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+  std::filesystem::remove_all(dir);
+  std::filesystem::remove(quads);
+}
