@@ -116,6 +116,7 @@ Runner add_param(CLI::App& app) {
                           {"solves", r.solves},
                           {"iterations", r.iterations},
                           {"flipped_unstiffened", r.flipped_unstiffened},
+                          {"flipped_first_solve", r.flipped_first},
                           {"flipped_final", r.flipped_final},
                           {"bad_per_solve", r.bad_per_solve},
                           {"bad_angle_sums", cert.bad_angle_sums},
@@ -139,11 +140,11 @@ Runner add_param(CLI::App& app) {
       if (!a->json)
         fmt::print(
             "component {}: {} patches, {} quads; {} / {}: {} unknowns, {} factorization{}, "
-            "{} solves; flipped with weights 1: {}, final: {}{}; {} of {} meta-edges locked, "
+            "{} solves; flipped in the first solve: {}, final: {}{}; {} of {} meta-edges locked, "
             "{} seam edges stiffened; {} ({:.0f} ms; segment {:.0f} ms, layout {:.0f} ms)\n",
             j["component"].get<int>(), run.seg.num_patches, run.layout.quads(), r.weights, r.relax,
             r.unknowns, r.factorizations, r.factorizations == 1 ? "" : "s", r.solves,
-            r.flipped_unstiffened, r.flipped_final,
+            r.flipped_first, r.flipped_final,
             r.fell_back_to_locked ? " (fell back to the locked map)" : "", r.locked_meta_edges,
             r.meta_edges, r.stiffened_edges, cert.ok() ? "certified injective" : "NOT injective",
             1e3 * r.total_seconds, 1e3 * run.segment_seconds, 1e3 * run.layout_seconds);

@@ -88,6 +88,11 @@ Outcome relax_adaptive(const Context& ctx) {
   const EdgeData<uint32_t>& edge_meta = ctx.system.edge_meta_edge();
   Outcome out;
   out.stiffness = EdgeData<double>(mesh.num_edges(), 1.0);
+  // Seams start stiff (the paper's large boundary weights), not free: a free seam bends with
+  // the harmonic map of both sides, which distorts the quads along it more than the flips it
+  // avoids are worth (corpus at 1,500 quads: 931 folded quads from weight 1, 817 from 100).
+  for (uint32_t e = 0; e < mesh.num_edges(); ++e)
+    if (edge_meta[e] != kInvalid) out.stiffness[e] = opt.initial_stiffness;
   out.locked = ctx.system.always_locked();
   std::vector<uint32_t> suspect(ctx.meta.faces.size(), 0);
   std::vector<uint32_t> raises(ctx.meta.edges.size(), 0);
@@ -97,7 +102,7 @@ Outcome relax_adaptive(const Context& ctx) {
     out.map = ctx.system.solve(out.stiffness, out.locked, ctx.report);
     out.cert = ctx.check(out.map);
     ctx.report.iterations = it + 1;
-    if (it == 0) ctx.report.flipped_unstiffened = out.cert.flipped + out.cert.degenerate;
+    if (it == 0) ctx.report.flipped_first = out.cert.flipped + out.cert.degenerate;
     if (out.cert.ok()) {
       out.ok = true;
       return out;
@@ -162,7 +167,8 @@ Outcome solve_uniform(const Context& ctx, double lambda) {
 // no triangle flips, then bisected (in log scale) down to the smallest that leaves none.
 Outcome relax_bisection(const Context& ctx) {
   Outcome low = solve_uniform(ctx, 1.0);
-  ctx.report.flipped_unstiffened = low.cert.flipped + low.cert.degenerate;
+  ctx.report.flipped_unstiffened = ctx.report.flipped_first =
+      low.cert.flipped + low.cert.degenerate;
   if (low.ok) return low;
   // The upper bracket: weights large enough to leave no flip. The map tends to the (injective)
   // locked map as the weight grows, so raising it by 100 at a time ends; 1e12 is the limit.
@@ -241,7 +247,7 @@ Param parametrize(const TriMesh& mesh, const FaceData<uint32_t>& labels, const M
       break;
     case RelaxMode::none:
       out = solve_uniform(ctx, 1.0);
-      report.flipped_unstiffened = out.cert.flipped + out.cert.degenerate;
+      report.flipped_unstiffened = report.flipped_first = out.cert.flipped + out.cert.degenerate;
       out.ok = true;  // returned as is, flips included
       break;
     case RelaxMode::locked:

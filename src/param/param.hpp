@@ -33,11 +33,12 @@ enum class RelaxMode {
 struct ParamOptions {
   WeightKind weights = WeightKind::smvc;
   RelaxMode relax = RelaxMode::adaptive;
-  uint32_t max_iterations = 12;  // adaptive solves before everything is locked
-  double growth = 3;             // stiffness factor per adaptive step
-  double max_stiffness = 1e4;    // a seam edge reaching it gets its meta-edge locked
-  uint32_t rings = 3;            // seam edges within this many face rings of a flip are stiffened
-  uint32_t max_raises = 2;       // stiffenings of a meta-edge before it is locked instead
+  uint32_t max_iterations = 12;    // adaptive solves before everything is locked
+  double initial_stiffness = 100;  // seam weight of the first adaptive solve
+  double growth = 3;               // stiffness factor per adaptive step
+  double max_stiffness = 1e4;      // a seam edge reaching it gets its meta-edge locked
+  uint32_t rings = 3;              // seam edges within this many face rings of a flip are stiffened
+  uint32_t max_raises = 2;         // stiffenings of a meta-edge before it is locked instead
   uint32_t bisection_steps = 10;
 };
 
@@ -69,6 +70,9 @@ struct ParamReport {
   uint32_t iterations = 0;              // relaxation rounds
   uint32_t unknowns = 0;                // free vertices
   uint32_t flipped_unstiffened = 0;     // flipped + degenerate faces with all seam weights 1
+                                        // (bisection and none solve it; 0 for adaptive)
+  uint32_t flipped_first = 0;           // the same in the first relaxed solve (adaptive: at
+                                        // initial_stiffness)
   uint32_t flipped_final = 0;           // in the returned map (0 unless it is broken)
   std::vector<uint32_t> bad_per_solve;  // flipped + degenerate faces after each relaxed solve
   uint32_t locked_meta_edges = 0;  // locked in the returned map (features and boundary included)

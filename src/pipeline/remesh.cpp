@@ -96,6 +96,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                      {"layout_repairs", r.layout_report.repairs},
                      {"factorizations", r.param_report.factorizations},
                      {"flipped_unstiffened", r.param_report.flipped_unstiffened},
+                     {"flipped_first_solve", r.param_report.flipped_first},
                      {"locked_meta_edges", r.param_report.locked_meta_edges},
                      {"smoothing",
                       {{"iterations", r.smooth_report.iterations},

@@ -261,11 +261,11 @@ std::string index_html(const nlohmann::json& report, const std::vector<std::stri
   for (const auto& c : report.at("components")) {
     row(fmt::format("component {}", c.at("component").get<uint32_t>()),
         fmt::format("{} patches, {} meta-vertices {}, {} quads, repairs {}, {} factorizations, "
-                    "{} flipped triangles before stiffening{}",
+                    "{} flipped triangles in the first solve{}",
                     c.at("patches").dump(), c.at("meta_vertices").dump(),
                     html_escape(c.at("meta_vertex_valence").dump()), c.at("quads").dump(),
                     html_escape(c.at("layout_repairs").dump()), c.at("factorizations").dump(),
-                    c.at("flipped_unstiffened").dump(),
+                    c.at("flipped_first_solve").dump(),
                     c.at("fell_back_to_locked").get<bool>() ? ", locked map" : ""));
     const auto& s = c.at("seconds");
     row("seconds", fmt::format("segment {:.3f}, layout {:.3f}, param {:.3f}, extract {:.3f}",

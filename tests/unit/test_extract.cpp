@@ -250,7 +250,10 @@ TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {
   EXPECT_EQ(report.iterations, 10u);
   EXPECT_GT(report.moves, 0u);
   EXPECT_LE(after.sj_nonpositive, before.sj_nonpositive);
-  EXPECT_GE(after.sj_mean, before.sj_mean - 1e-3);
+  // What smoothing is for: the worst quad is no worse and the spacing is more even (the mean
+  // scaled Jacobian may move either way: averaging positions is not an angle optimizer).
+  EXPECT_GE(after.sj_min, before.sj_min);
+  EXPECT_LT(after.edge_cv, before.edge_cv);
   for (std::size_t v = 0; v < q.positions.size(); ++v) {
     const SurfacePoint& s = q.surface[v];
     const Tri& t = base.face(s.face);
