@@ -73,6 +73,32 @@ struct ViewBasis {
   }
 };
 
+// Depth-tests the pixels whose centres lie in the screen triangle p (x, y in pixels, z depth)
+// of a W x H buffer: write(i) runs where the triangle is nearer than depth[i], after the update.
+template <class Write>
+void raster(const Vec3 (&p)[3], int W, int H, std::vector<float>& depth, Write&& write) {
+  const double area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+  if (area == 0) return;
+  const int x0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
+  const int x1 = std::min(W - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
+  const int y0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
+  const int y1 = std::min(H - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const double px = x + 0.5, py = y + 0.5;
+      const double w0 = ((p[1].x - px) * (p[2].y - py) - (p[1].y - py) * (p[2].x - px)) / area;
+      const double w1 = ((p[2].x - px) * (p[0].y - py) - (p[2].y - py) * (p[0].x - px)) / area;
+      const double w2 = 1 - w0 - w1;
+      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+      const float z = float(w0 * p[0].z + w1 * p[1].z + w2 * p[2].z);
+      const std::size_t i = std::size_t(y) * W + x;
+      if (z < depth[i]) {
+        depth[i] = z;
+        write(i);
+      }
+    }
+}
+
 }  // namespace
 
 double visible_area_fraction(const std::vector<std::array<Vec3, 3>>& triangles,
@@ -96,27 +122,7 @@ double visible_area_fraction(const std::vector<std::array<Vec3, 3>>& triangles,
     }
     areas[f] = 0.5 * norm(cross(t[1] - t[0], t[2] - t[0]));
     total += areas[f];
-    const double area =
-        (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
-    if (area == 0) continue;
-    const int x0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
-    const int x1 = std::min(kRes - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
-    const int y0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
-    const int y1 = std::min(kRes - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) {
-        const double px = x + 0.5, py = y + 0.5;
-        const double w0 = ((p[1].x - px) * (p[2].y - py) - (p[1].y - py) * (p[2].x - px)) / area;
-        const double w1 = ((p[2].x - px) * (p[0].y - py) - (p[2].y - py) * (p[0].x - px)) / area;
-        const double w2 = 1 - w0 - w1;
-        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-        const float z = float(w0 * p[0].z + w1 * p[1].z + w2 * p[2].z);
-        const std::size_t i = std::size_t(y) * kRes + x;
-        if (z < depth[i]) {
-          depth[i] = z;
-          id[i] = f;
-        }
-      }
+    raster(p, kRes, kRes, depth, [&](std::size_t i) { id[i] = f; });
   }
   std::sort(id.begin(), id.end());
   id.erase(std::unique(id.begin(), id.end()), id.end());
@@ -186,29 +192,12 @@ void Canvas::raster_triangle(const Vec3& a, const Vec3& b, const Vec3& c, Rgb co
   const std::array<uint8_t, 3> rgb = {uint8_t(std::clamp(color.r * shade, 0.0, 1.0) * 255),
                                       uint8_t(std::clamp(color.g * shade, 0.0, 1.0) * 255),
                                       uint8_t(std::clamp(color.b * shade, 0.0, 1.0) * 255)};
-  Projected p[3] = {project(a), project(b), project(c)};
-  for (auto& q : p) q.x *= ss_, q.y *= ss_;
-  const int W = w_ * ss_, H = h_ * ss_;
-  const int x0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
-  const int x1 = std::min(W - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
-  const int y0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
-  const int y1 = std::min(H - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
-  const double area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
-  if (area == 0) return;
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x) {
-      const double px = x + 0.5, py = y + 0.5;
-      const double w0 = ((p[1].x - px) * (p[2].y - py) - (p[1].y - py) * (p[2].x - px)) / area;
-      const double w1 = ((p[2].x - px) * (p[0].y - py) - (p[2].y - py) * (p[0].x - px)) / area;
-      const double w2 = 1 - w0 - w1;
-      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-      const float z = float(w0 * p[0].z + w1 * p[1].z + w2 * p[2].z);
-      const std::size_t i = std::size_t(y) * W + x;
-      if (z < depth_[i]) {
-        depth_[i] = z;
-        pixels_[i] = rgb;
-      }
-    }
+  Vec3 p[3];
+  for (int k = 0; k < 3; ++k) {
+    const Projected q = project(k == 0 ? a : (k == 1 ? b : c));
+    p[k] = {q.x * ss_, q.y * ss_, q.z};
+  }
+  raster(p, w_ * ss_, h_ * ss_, depth_, [&](std::size_t i) { pixels_[i] = rgb; });
 }
 
 void Canvas::fill(const TriMesh& mesh, const std::function<Rgb(uint32_t)>& color) {
