@@ -19,7 +19,7 @@ namespace {
 struct LayoutArgs {
   std::string mesh, corners = "global", ilp = "cbc";
   PatchArgs patch;
-  bool json = false, improve_corners = false;
+  bool json = false, improve_corners = true;
   PrepArgs prep;
 };
 }  // namespace
@@ -39,8 +39,9 @@ Runner add_layout(CLI::App& app) {
                   "network matrix, CBC otherwise)")
       ->check(CLI::IsMember({"cbc", "flow"}))
       ->capture_default_str();
-  sub->add_flag("--improve-corners", a->improve_corners,
-                "Refine the corners patch by patch against the relaxed length program");
+  sub->add_flag("--improve-corners,!--no-improve-corners", a->improve_corners,
+                "Refine the corners patch by patch against the relaxed length program (default; "
+                "--no-improve-corners keeps the corner ILP's choice)");
   sub->add_flag("--json", a->json, "Print the full layout as JSON");
   add_prep_options(*sub, a->prep);
   return [a] {

@@ -19,7 +19,7 @@ namespace {
 struct RemeshArgs {
   std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global";
   PatchArgs patch;
-  bool json = false, quiet = false, improve_corners = false;
+  bool json = false, quiet = false, improve_corners = true, no_untangle = false;
   uint32_t smooth = 0;
   std::vector<double> view;
   int report_width = 1200;
@@ -43,13 +43,17 @@ Runner add_remesh(CLI::App& app) {
   sub->add_option("--corners", a->corners, "Corner choice: global or local (the paper's)")
       ->check(CLI::IsMember({"global", "local"}))
       ->capture_default_str();
-  sub->add_flag("--improve-corners", a->improve_corners,
-                "Refine the corners patch by patch against the relaxed length program (less "
-                "stretched quads, seconds more)");
+  sub->add_flag("--improve-corners,!--no-improve-corners", a->improve_corners,
+                "Refine the corners patch by patch against the relaxed length program (default; "
+                "--no-improve-corners keeps the corner ILP's choice: faster, more stretched "
+                "quads)");
   sub->add_option("--smooth", a->smooth,
                   "Tangential smoothing iterations after extraction, vertices kept on the input "
                   "surface (default 0: the map's lattice points as they are)")
       ->capture_default_str();
+  sub->add_flag("--no-untangle", a->no_untangle,
+                "Keep the lattice points where the map puts them, even where a quad folds "
+                "against the surface (by default such quads' corners are moved along it)");
   sub->add_option("--report", a->report_dir,
                   "Write pictures (Figures 1 and 3 of the paper), layout.svg, report.json and "
                   "index.html into this folder");
@@ -82,6 +86,7 @@ Runner add_remesh(CLI::App& app) {
     o.feature_angle_deg = a->prep.feature_angle;
     o.repair = a->prep.repair;
     o.smooth = a->smooth;
+    o.untangle = !a->no_untangle;
     o.improve_corners = a->improve_corners;
     o.quality = a->json || !a->report_dir.empty();
     const RemeshRun run = remesh_run(read.mesh, o, read.unshared_vertices, say);

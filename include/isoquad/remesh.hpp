@@ -22,10 +22,11 @@ struct RemeshOptions {
   bool paper_weights = false;      // Floater's mean value weights (default: symmetrized, SPD)
   std::string relax = "adaptive";  // adaptive, bisection or locked
   bool local_corners = false;      // the paper's per-patch corner choice
-  bool improve_corners = false;    // refine corners against the relaxed length program (slower)
+  bool improve_corners = true;     // refine corners against the relaxed length program
   double feature_angle_deg = 60;   // dihedral angle above which edges are creases (0: none)
   bool repair = false;             // detach non-manifold edges, drop degenerate faces
   uint32_t smooth = 0;             // tangential smoothing iterations on the surface
+  bool untangle = true;            // move corners of quads folded against the surface
   bool quality = true;             // measure the output against the input (in `report`)
 };
 

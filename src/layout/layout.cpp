@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <set>
+
+#include <tbb/parallel_for.h>
 
 #include "isoquad/error.hpp"
 #include "layout/charts.hpp"
@@ -150,11 +153,14 @@ bool insert_on_zero_edges(const TriMesh& mesh, const FaceData<uint32_t>& labels,
   return true;
 }
 
-// Local improvement of the corners (beyond the paper): per patch, each of its best candidates
-// is tried in place of its corners, and the change is kept when the LP relaxation of the length
+// Local improvement of the corners (beyond the paper): per patch, its four best candidates are
+// tried in place of its corners, and the best is kept when the LP relaxation of the length
 // program plus the corner and valence costs drops. The corner ILP sees the side lengths of each
-// patch alone; this sees how the side equations of all patches interact. Deterministic (fixed
-// order, strict improvement) and bounded by two sweeps.
+// patch alone; this sees how the side equations of all patches interact. One sweep: on fandisk,
+// bunny00, elephant, cactus, knot1 and anchor the four best candidates of one sweep gave 75-80%
+// of the objective drop of eight candidates over two sweeps, at a quarter of the LP solves.
+// The four trials of a patch run in parallel, each on its own LP (so each LP's warm starts, and
+// the result, do not depend on thread timing); ties go to the better-ranked candidate.
 void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
                      const LayoutOptions& o, double unit, const std::vector<double>& targets,
                      Feasible& f, LayoutReport& report) {
@@ -177,15 +183,19 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
     for (uint32_t v = 0; v < a.size(); ++v) {
       const bool b = meta.vertices[v].on_boundary;
       if (a[v] < (b ? 1 : 3) || a[v] > (b ? 4 : 6)) return INFINITY;
-      t += o.valence_weight * std::abs(a[v] - tau[v]);
+      t += o.improve_valence_weight * std::abs(a[v] - tau[v]);
     }
     return t;
   };
   std::vector<std::array<uint32_t, 4>> corners = f.corners.corners;
-  // One LP for all trials: changing a patch's corners only rewrites its two side rows.
+  // One LP per trial slot, re-solved after each change: changing a patch's corners only
+  // rewrites its two side rows.
+  constexpr uint32_t kSlots = 4;
   const uint32_t n = uint32_t(meta.edges.size());
-  IncrementalLp lp(length_problem(targets, f.rows, false, false));
-  auto set_rows = [&](uint32_t p, const std::array<uint32_t, 4>& c) {
+  const MilpProblem problem = length_problem(targets, f.rows, false, false);
+  std::vector<std::unique_ptr<IncrementalLp>> lps(kSlots);
+  std::vector<double> value(kSlots, INFINITY);
+  auto set_rows = [&](IncrementalLp& lp, uint32_t p, const std::array<uint32_t, 4>& c) {
     std::array<uint32_t, 4> sorted = c;
     std::sort(sorted.begin(), sorted.end());
     const MetaFace& face = meta.faces[p];
@@ -200,40 +210,45 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
         lp.set_coefficient(side_row(n, 2 * p + 1 - (k % 2)), e, 0);
       }
   };
-  auto lp_value = [&] {
+  auto lp_value = [](IncrementalLp& lp) {
     const MilpResult r = lp.solve();
     return r.found() ? r.objective : INFINITY;
   };
-  double best = total(corners, lp_value());
+  tbb::parallel_for(0u, kSlots, [&](uint32_t k) {
+    lps[k] = std::make_unique<IncrementalLp>(problem);
+    value[k] = lp_value(*lps[k]);
+  });
+  double best = total(corners, value[0]);
   if (!std::isfinite(best)) return;
   uint32_t changed = 0;
-  for (int sweep = 0; sweep < 2; ++sweep) {
-    bool any = false;
-    for (uint32_t p = 0; p < np; ++p) {
-      const uint32_t tries = std::min<uint32_t>(o.candidates_per_patch, uint32_t(all[p].size()));
-      for (uint32_t c = 0; c < tries; ++c) {
-        const std::array<uint32_t, 4> old = corners[p];
-        std::array<uint32_t, 4> sorted_old = old;
-        std::sort(sorted_old.begin(), sorted_old.end());
-        if (all[p][c].items == sorted_old) continue;
-        corners[p] = all[p][c].items;
-        if (!std::isfinite(total(corners, 0))) {
-          corners[p] = old;
-          continue;
-        }
-        set_rows(p, corners[p]);
-        const double t = total(corners, lp_value());
-        if (t < best - 1e-9) {
-          best = t;
-          any = true;
-          ++changed;
-        } else {
-          corners[p] = old;
-          set_rows(p, old);
-        }
-      }
+  for (uint32_t p = 0; p < np; ++p) {
+    std::vector<std::array<uint32_t, 4>> trials;
+    std::array<uint32_t, 4> current = corners[p];
+    std::sort(current.begin(), current.end());
+    for (uint32_t c = 0; c < std::min<uint32_t>(kSlots, uint32_t(all[p].size())); ++c) {
+      if (all[p][c].items == current) continue;
+      auto trial = corners;
+      trial[p] = all[p][c].items;
+      if (std::isfinite(total(trial, 0))) trials.push_back(all[p][c].items);
     }
-    if (!any) break;
+    tbb::parallel_for(0u, uint32_t(trials.size()), [&](uint32_t k) {
+      set_rows(*lps[k], p, trials[k]);
+      value[k] = lp_value(*lps[k]);
+      set_rows(*lps[k], p, corners[p]);
+    });
+    int pick = -1;
+    double pick_total = best - 1e-9;
+    for (uint32_t k = 0; k < trials.size(); ++k) {
+      auto trial = corners;
+      trial[p] = trials[k];
+      const double t = total(trial, value[k]);
+      if (t < pick_total) pick_total = t, pick = int(k);
+    }
+    if (pick < 0) continue;
+    best = pick_total;
+    corners[p] = trials[pick];
+    for (const auto& lp : lps) set_rows(*lp, p, corners[p]);
+    ++changed;
   }
   if (changed > 0) {
     f.corners.corners = corners;
@@ -324,8 +339,11 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
     const double q = double(layout.quads());
     const double miss = std::fabs(q - wanted) / wanted;
     if (miss < best_miss) best_miss = miss, best = l, best_h = h, layout.target = c;
-    if (!by_count || miss <= 0.03) break;
+    // The count is a step function of h (1,440 or 1,546 quads on fandisk, nothing between), so
+    // 5% is accepted and the search ends once the bracket is too narrow to hold another step.
+    if (!by_count || miss <= 0.05) break;
     (q > wanted ? h_small : h_large) = h;
+    if (h_small > 0 && h_large < 1.003 * h_small) break;
     // Area scales with 1/h^2; once both sides are known, bisect (geometrically) inside them.
     h = h_small > 0 && h_large < INFINITY ? std::sqrt(h_small * h_large)
                                           : h * std::sqrt(q / wanted);

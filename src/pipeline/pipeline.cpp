@@ -73,6 +73,8 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
   run.quads = extract_quads(run.seg.refined, surface, run.seg.labels, run.seg.meta, run.layout,
                             run.param, run.extract_report);
   if (o.smooth > 0) smooth_quads(run.quads, surface, run.seg.meta, o.smooth, run.smooth_report);
+  if (o.untangle)
+    untangle_quads(run.quads, surface, run.seg.refined.mesh, run.seg.meta, {}, run.untangle_report);
   if (run.subdivisions > 0)
     for (SurfacePoint& p : run.quads.surface) p = to_component(run.surface, p);
   run.extract_seconds = seconds_since(t0);
@@ -91,18 +93,25 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
                                          prep.normalization.scale);
   // A big patch with a long protrusion crowds its tip exponentially in any harmonic map; on a
   // finer surface the crowded triangles get too small to certify (E553), and few patches on a
-  // fine surface may not be cut into disks (E201). One level coarser is tried before giving up,
-  // down to the component itself.
+  // fine surface may not be cut into disks (E201). Refined corners can ask such a patch for a
+  // rectangle it fills even worse (knot1 with 8 patches), so the corner ILP's own choice is
+  // tried first; then one level coarser, down to the component itself.
   uint32_t max_levels = 64;
+  PipelineOptions stages = o;
   for (;;) {
     const auto t0 = Clock::now();
     run.surface = subdivide_coarse(comp.mesh, comp.feature, h, o.triangles_per_quad,
                                    run.surface_feature, run.subdivisions, max_levels);
     run.segment_seconds += seconds_since(t0);
     try {
-      run_stages(h, o, run);
+      run_stages(h, stages, run);
       return run;
     } catch (const Error& e) {
+      if (e.code() == "E553" && stages.layout.improve_corners) {
+        stages.layout.improve_corners = false;
+        run.corners_unrefined = true;
+        continue;
+      }
       if ((e.code() != "E553" && e.code() != "E201") || run.subdivisions == 0) throw;
       max_levels = run.subdivisions - 1;
       ++run.subdivision_retreats;

@@ -9,6 +9,7 @@
 #include "core/poly_mesh.hpp"
 #include "extract/extract.hpp"
 #include "extract/smooth.hpp"
+#include "extract/untangle.hpp"
 #include "layout/layout.hpp"
 #include "param/param.hpp"
 #include "prep/prepare.hpp"
@@ -25,7 +26,8 @@ struct PipelineOptions {
   uint64_t seed = 1;
   LayoutOptions layout;  // corners and length solver (size fields are set per component)
   ParamOptions param;
-  uint32_t smooth = 0;  // tangential smoothing iterations after extraction
+  uint32_t smooth = 0;   // tangential smoothing iterations after extraction
+  bool untangle = true;  // repair quads folded against the surface (extract/untangle.hpp)
   // Midpoint subdivisions of a coarse component until it has this many triangles per target
   // quad (0: never; 8 is also the default size's density, so default runs subdivide only small
   // inputs). The map is linear on each triangle, so on a coarse input every quad straddling two
@@ -44,6 +46,7 @@ struct ComponentRun {
   EdgeData<char> surface_feature;
   uint32_t subdivisions = 0;
   uint32_t subdivision_retreats = 0;  // levels given up because the finer map did not certify
+  bool corners_unrefined = false;     // the refined corners' map did not certify: the ILP's used
   SegmentResult seg;
   Layout layout;
   LayoutReport layout_report;
@@ -52,6 +55,7 @@ struct ComponentRun {
   QuadMesh quads;
   ExtractReport extract_report;
   SmoothReport smooth_report;
+  UntangleReport untangle_report;
   double segment_seconds = 0, layout_seconds = 0, param_seconds = 0, extract_seconds = 0;
 };
 

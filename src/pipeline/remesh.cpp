@@ -30,7 +30,8 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"improve_corners", o.improve_corners},
           {"feature_angle", o.feature_angle_deg},
           {"repair", o.repair},
-          {"smooth", o.smooth}};
+          {"smooth", o.smooth},
+          {"untangle", o.untangle}};
 }
 
 }  // namespace
@@ -65,6 +66,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.quads = opt.quads;
   o.seed = opt.seed;
   o.smooth = opt.smooth;
+  o.untangle = opt.untangle;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;
@@ -88,6 +90,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     comps.push_back({{"component", prep.components[c].report_index},
                      {"subdivisions", r.subdivisions},
                      {"subdivision_retreats", r.subdivision_retreats},
+                     {"corner_refinement_dropped", r.corners_unrefined},
                      {"patches", r.seg.num_patches},
                      {"meta_vertices", r.seg.meta.vertices.size()},
                      {"meta_vertex_valence", valence},
@@ -102,6 +105,14 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                       {{"iterations", r.smooth_report.iterations},
                        {"moves", r.smooth_report.moves},
                        {"rejected", r.smooth_report.rejected}}},
+                     {"untangle",
+                      {{"folded_before", r.untangle_report.folded_before},
+                       {"folded_after", r.untangle_report.folded_after},
+                       {"min_sj_before", r.untangle_report.min_before},
+                       {"min_sj_after", r.untangle_report.min_after},
+                       {"rounds", r.untangle_report.rounds},
+                       {"moves", r.untangle_report.moves},
+                       {"seconds", r.untangle_report.seconds}}},
                      {"fell_back_to_locked", r.param_report.fell_back_to_locked},
                      {"lattice_points",
                       {{"direct", r.extract_report.direct},

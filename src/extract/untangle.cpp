@@ -1,0 +1,251 @@
+#include "extract/untangle.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "extract/surface_walk.hpp"
+#include "metrics/aabb_tree.hpp"
+
+namespace isoquad {
+
+namespace {
+
+// A meta-edge's polyline on the surface, by arc length.
+struct Polyline {
+  std::vector<Vec3> points;
+  std::vector<double> at;  // arc length at each point
+
+  double parameter_of(const Vec3& p) const {  // arc length of the closest point
+    double best = INFINITY, s = 0;
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+      const Vec3 d = points[i + 1] - points[i];
+      const double l2 = squared_norm(d);
+      const double t = l2 > 0 ? std::clamp(dot(p - points[i], d) / l2, 0.0, 1.0) : 0.0;
+      const double dist = squared_norm(points[i] + t * d - p);
+      if (dist < best) best = dist, s = at[i] + t * (at[i + 1] - at[i]);
+    }
+    return s;
+  }
+  Vec3 point_at(double s) const {
+    s = std::clamp(s, 0.0, at.back());
+    const std::size_t i = std::min<std::size_t>(
+        std::upper_bound(at.begin(), at.end(), s) - at.begin(), points.size() - 1);
+    if (i == 0) return points[0];
+    const double l = at[i] - at[i - 1];
+    return l > 0 ? points[i - 1] + ((s - at[i - 1]) / l) * (points[i] - points[i - 1]) : points[i];
+  }
+};
+
+struct Untangler {
+  QuadMesh& qm;
+  const TriMesh& base;
+  std::vector<char> fixed;             // a meta-vertex, or on a crease or the mesh boundary
+  std::vector<const Polyline*> slide;  // the crease or boundary a vertex may slide along
+  std::vector<Vec3> origin;            // where the map put each vertex
+  double fidelity = 0.15;              // how far its quads may leave that point, in edge lengths
+
+  // Distance from x to the quads around v, each taken as four triangles about its centroid.
+  double distance_to_fan(uint32_t v, const Vec3& x) const {
+    double best = INFINITY;
+    for (const uint32_t f : around[v]) {
+      const auto& q = qm.quads[f];
+      const Vec3 c = 0.25 * (qm.positions[q[0]] + qm.positions[q[1]] + qm.positions[q[2]] +
+                             qm.positions[q[3]]);
+      for (int k = 0; k < 4; ++k)
+        best = std::min(best, norm(closest_point_on_triangle(x, qm.positions[q[k]],
+                                                             qm.positions[q[(k + 1) % 4]], c) -
+                                   x));
+    }
+    return best;
+  }
+  std::vector<std::vector<uint32_t>> around;  // quads at each vertex
+  std::vector<std::vector<uint32_t>> nbr;     // quad-edge neighbours of each vertex
+
+  // The surface normal at corner k of quad q as `isoquad quality` takes it, just inside the
+  // corner (at a vertex on a crease, the side the quad lies on). With the vertex's own face
+  // instead, the two disagreed near zero and the untangler left folds the metric counted.
+  Vec3 corner_normal(const std::array<uint32_t, 4>& q, int k, const Vec3& e1,
+                     const Vec3& e2) const {
+    const uint32_t w = q[k];
+    const SurfacePoint s =
+        project_locally(base, qm.surface[w].face, qm.positions[w] + 0.05 * (e1 + e2));
+    return face_normal(base, s.face);
+  }
+
+  // The scaled Jacobians of quad f's four corners.
+  std::array<double, 4> corner_sj(uint32_t f) const {
+    const auto& q = qm.quads[f];
+    std::array<double, 4> sj;
+    for (int k = 0; k < 4; ++k) {
+      const Vec3& p = qm.positions[q[k]];
+      const Vec3 e1 = qm.positions[q[(k + 1) % 4]] - p, e2 = qm.positions[q[(k + 3) % 4]] - p;
+      const double l = norm(e1) * norm(e2);
+      sj[k] = l > 0 ? dot(corner_normal(q, k, e1, e2), cross(e1, e2)) / l : 0.0;
+    }
+    return sj;
+  }
+  double quad_sj(uint32_t f) const {
+    const auto sj = corner_sj(f);
+    return std::min(std::min(sj[0], sj[1]), std::min(sj[2], sj[3]));
+  }
+
+  // v's neighbourhood: its worst corner, and the squared shortfall of its quads' corners below
+  // `cap` (a smooth measure, so that a tangle whose worst corner one vertex cannot lift still
+  // shows progress).
+  struct Local {
+    double worst = 1, shortfall = 0;
+  };
+  Local local_quality(uint32_t v, double cap) const {
+    Local l;
+    for (const uint32_t f : around[v])
+      for (const double s : corner_sj(f)) {
+        l.worst = std::min(l.worst, s);
+        if (s < cap) l.shortfall += (cap - s) * (cap - s);
+      }
+    return l;
+  }
+  // Better: less shortfall without a worse worst corner, or a better worst corner.
+  static bool better(const Local& a, const Local& b) {
+    if (a.worst > b.worst + 1e-12) return true;
+    return a.worst >= b.worst && a.shortfall < b.shortfall - 1e-12;
+  }
+
+  // Moves v to the best of its trial positions in its tangent plane; true if it moved.
+  bool improve(uint32_t v, double cap) {
+    const Vec3 p0 = qm.positions[v];
+    const SurfacePoint s0 = qm.surface[v];
+    const Local q0 = local_quality(v, cap);
+    double len = 0;
+    Vec3 avg;
+    for (const uint32_t w : nbr[v]) {
+      len += norm(qm.positions[w] - p0);
+      avg += qm.positions[w];
+    }
+    len /= double(nbr[v].size());
+    avg = avg / double(nbr[v].size());
+    const Vec3 n = face_normal(base, s0.face);
+    // A tangent frame from the normal's smallest component (deterministic).
+    const Vec3 axis = std::fabs(n.x) <= std::fabs(n.y) && std::fabs(n.x) <= std::fabs(n.z)
+                          ? Vec3{1, 0, 0}
+                          : (std::fabs(n.y) <= std::fabs(n.z) ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+    const Vec3 t1 = normalized(cross(n, axis)), t2 = cross(n, t1);
+    Local best_q = q0;
+    SurfacePoint best = s0;
+    Vec3 best_p = p0;
+    auto trial = [&](const Vec3& x) {
+      const SurfacePoint s = project_locally(base, s0.face, x);
+      if (qm.vertex_meta_vertex[v] != kInvalid || slide[v]) {
+        // A singularity or crease vertex must keep covering the surface point the map chose:
+        // it may glide along the surface, not cut off a tip (a horn, a finger) it stood on.
+        const Vec3 old = qm.positions[v];
+        qm.positions[v] = position_of(base, s);
+        const bool covers = distance_to_fan(v, origin[v]) <= fidelity * len;
+        qm.positions[v] = old;
+        if (!covers) return;
+      }
+      qm.positions[v] = position_of(base, s);
+      qm.surface[v] = s;
+      const Local q = local_quality(v, cap);
+      if (better(q, best_q)) best_q = q, best = s, best_p = qm.positions[v];
+    };
+    if (const Polyline* line = slide[v]) {
+      const double s = line->parameter_of(p0);
+      for (const double step : {0.4, 0.2, 0.1, 0.05})
+        for (const double sign : {-1.0, 1.0}) trial(line->point_at(s + sign * step * len));
+    } else {
+      trial(avg);
+      for (const double step : {0.8, 0.4, 0.2, 0.1, 0.05})
+        for (int k = 0; k < 8; ++k) {
+          const double a = k * std::numbers::pi / 4;
+          trial(p0 + (step * len) * (std::cos(a) * t1 + std::sin(a) * t2));
+        }
+    }
+    qm.positions[v] = best_p;
+    qm.surface[v] = best;
+    return better(best_q, q0);
+  }
+};
+
+}  // namespace
+
+void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, const MetaMesh& meta,
+                    const UntangleOptions& o, UntangleReport& report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint32_t n = uint32_t(qm.positions.size());
+  Untangler u{qm,
+              base,
+              std::vector<char>(n, 0),
+              std::vector<const Polyline*>(n, nullptr),
+              qm.positions,
+              o.fidelity,
+              std::vector<std::vector<uint32_t>>(n),
+              std::vector<std::vector<uint32_t>>(n)};
+  // Meta-vertices where a crease or the mesh boundary meets stay; the others are singularities
+  // of the quad mesh whose exact place on the surface is free.
+  std::vector<char> pinned(meta.vertices.size(), 0);
+  for (uint32_t m = 0; m < meta.vertices.size(); ++m) pinned[m] = meta.vertices[m].on_boundary;
+  for (const MetaEdge& e : meta.edges)
+    if (e.feature || e.right == kInvalid) pinned[e.mv0] = pinned[e.mv1] = 1;
+  std::vector<Polyline> lines(meta.edges.size());
+  for (uint32_t v = 0; v < n; ++v) {
+    const uint32_t e = qm.vertex_meta_edge[v];
+    const bool crease = e != kInvalid && (meta.edges[e].feature || meta.edges[e].right == kInvalid);
+    const uint32_t m = qm.vertex_meta_vertex[v];
+    u.fixed[v] = (m != kInvalid && (pinned[m] || !o.move_singularities)) || crease;
+    if (!crease || m != kInvalid || !o.slide) continue;
+    Polyline& line = lines[e];
+    if (line.points.empty())
+      for (const uint32_t w : meta.edges[e].vertices) {
+        line.at.push_back(line.points.empty()
+                              ? 0.0
+                              : line.at.back() + norm(seams.position(w) - line.points.back()));
+        line.points.push_back(seams.position(w));
+      }
+    u.slide[v] = &line;
+  }
+  for (uint32_t f = 0; f < qm.quads.size(); ++f)
+    for (int i = 0; i < 4; ++i) {
+      const uint32_t a = qm.quads[f][i], b = qm.quads[f][(i + 1) % 4];
+      u.nbr[a].push_back(b);
+      u.nbr[b].push_back(a);
+      u.around[a].push_back(f);
+    }
+  for (auto& l : u.nbr) {
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+  }
+  std::vector<double> sj(qm.quads.size());
+  auto measure = [&](uint32_t& folded, double& worst) {
+    folded = 0;
+    worst = 1;
+    for (uint32_t f = 0; f < sj.size(); ++f) {
+      sj[f] = u.quad_sj(f);
+      folded += sj[f] <= 0;
+      worst = std::min(worst, sj[f]);
+    }
+  };
+  measure(report.folded_before, report.min_before);
+  for (uint32_t round = 0; round < o.max_rounds; ++round) {
+    std::vector<uint32_t> active;
+    for (uint32_t f = 0; f < sj.size(); ++f)
+      if (sj[f] < o.target)
+        for (const uint32_t v : qm.quads[f])
+          if (!u.fixed[v] || u.slide[v]) active.push_back(v);
+    std::sort(active.begin(), active.end());
+    active.erase(std::unique(active.begin(), active.end()), active.end());
+    if (active.empty()) break;
+    ++report.rounds;
+    uint32_t moved = 0;
+    for (const uint32_t v : active) moved += u.improve(v, o.target);
+    report.moves += moved;
+    for (const uint32_t v : active)
+      for (const uint32_t f : u.around[v]) sj[f] = u.quad_sj(f);
+    if (moved == 0) break;
+  }
+  measure(report.folded_after, report.min_after);
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace isoquad

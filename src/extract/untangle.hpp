@@ -1,0 +1,49 @@
+// Fold repair after extraction (beyond the paper). The map is certified bijective, so the
+// lattice points land on the surface in the right order, but a quad joins its four corners by
+// straight edges: where the map stretches strongly within one quad (near a corner whose surface
+// angle is far from 90 degrees, across a thin rim) the quad can fold against the surface. Each
+// corner of a quad whose scaled Jacobian against the surface normal is below `target` is moved
+// to the best of a few trial positions in its tangent plane, put back onto the surface by a
+// local walk: a move is taken if the worst corner of its quads rises, or stays and their
+// squared shortfall below `target` drops, so no quad gets worse than the worst one next to it.
+// Vertices on creases and the mesh boundary slide along them; meta-vertices where creases or
+// the boundary meet stay; other meta-vertices (singularities) move like any vertex. A move
+// must keep the vertex's original surface point close to its quads (`fidelity`), so tips are
+// not cut off. Deterministic (fixed visiting order and trial positions).
+//
+// Corpus at 1,500 quads, quads folded against the surface after untangling: 149 moving free
+// vertices only (817 without untangling); 55 with singularities moving and crease vertices
+// sliding, where letting singularities move without the fidelity bound gave 45 but took the
+// cow's horn tips off (Hausdorff distance 3.4% -> 5.7% of the diagonal; 3.2% with it).
+#pragma once
+
+#include <cstdint>
+
+#include "extract/extract.hpp"
+#include "layout/meta_mesh.hpp"
+
+namespace isoquad {
+
+struct UntangleOptions {
+  double target = 0.1;       // quads whose surface scaled Jacobian is below this are worked on
+  uint32_t max_rounds = 30;  // sweeps over their corners
+  bool slide = true;         // crease and boundary vertices may slide along them
+  bool move_singularities = true;  // meta-vertices off creases and the boundary may move
+  // A move must keep the vertex's original surface point within this many mean edge lengths of
+  // its quads, so that the mesh glides along the surface instead of cutting off tips.
+  double fidelity = 0.15;
+};
+
+struct UntangleReport {
+  uint32_t folded_before = 0, folded_after = 0;  // quads with surface scaled Jacobian <= 0
+  double min_before = 1, min_after = 1;          // smallest surface scaled Jacobian
+  uint32_t rounds = 0, moves = 0;
+  double seconds = 0;
+};
+
+// `base` is the surface the quads' SurfacePoints refer to.
+// `seams` is the mesh whose vertices the meta-edges list (`base` with its dividing edges split).
+void untangle_quads(QuadMesh& quads, const TriMesh& base, const TriMesh& seams,
+                    const MetaMesh& meta, const UntangleOptions& options, UntangleReport& report);
+
+}  // namespace isoquad
