@@ -42,8 +42,10 @@ void print_quality(const QualityReport& q) {
       q.angle_deviation_mean, q.angle_deviation_max, q.edge_mean, q.edge_cv);
   if (q.has_reference)
     fmt::print(
-        "distance to the input: Hausdorff {:.3f}%, mean {:.4f}% of the bounding-box diagonal\n",
-        100 * q.hausdorff, 100 * q.mean_distance);
+        "distance to the input: Hausdorff {:.3f}% (reached at ({:.4g}, {:.4g}, {:.4g}) on the "
+        "{}), mean {:.4f}% of the bounding-box diagonal\n",
+        100 * q.hausdorff, q.hausdorff_at.x, q.hausdorff_at.y, q.hausdorff_at.z,
+        q.hausdorff_on_input ? "input" : "quads", 100 * q.mean_distance);
 }
 
 Runner add_quality(CLI::App& app) {

@@ -97,6 +97,8 @@ void to_json(nlohmann::json& j, const QualityReport& q) {
                                     {"nonpositive", q.sj_surface_nonpositive}};
     j["hausdorff"] = q.hausdorff;
     j["mean_distance"] = q.mean_distance;
+    j["hausdorff_at"] = {{"point", {q.hausdorff_at.x, q.hausdorff_at.y, q.hausdorff_at.z}},
+                         {"on", q.hausdorff_on_input ? "input" : "quads"}};
   }
 }
 

@@ -83,7 +83,7 @@ std::vector<std::array<Vec3, 3>> fan_triangles(const PolyMesh& m) {
 
 // One-sided distances from area samples (and the vertices) of `from` to `to`.
 void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTree& to,
-                      uint32_t samples, uint64_t seed, double& max_d, double& sum_d,
+                      uint32_t samples, uint64_t seed, double& max_d, Vec3& max_at, double& sum_d,
                       uint64_t& count) {
   std::vector<double> cum(from.size() + 1, 0.0);
   for (std::size_t i = 0; i < from.size(); ++i)
@@ -92,7 +92,7 @@ void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTr
   auto uniform = [&] { return double(rng() >> 11) * 0x1.0p-53; };
   auto visit = [&](const Vec3& p) {
     const double d = to.closest(p).distance;
-    max_d = std::max(max_d, d);
+    if (d > max_d) max_d = d, max_at = p;
     sum_d += d;
     ++count;
   };
@@ -273,11 +273,14 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
     const std::vector<std::array<Vec3, 3>> quad_tris = fan_triangles(m);
     const AabbTree quad_tree(quad_tris);
     double max_a = 0, sum_a = 0, max_b = 0, sum_b = 0;
+    Vec3 at_a, at_b;
     uint64_t na = 0, nb = 0;
-    sample_distances(quad_tris, *ref_tree, options.samples, options.seed, max_a, sum_a, na);
+    sample_distances(quad_tris, *ref_tree, options.samples, options.seed, max_a, at_a, sum_a, na);
     sample_distances(ref_tree->triangles(), quad_tree, options.samples, options.seed + 1, max_b,
-                     sum_b, nb);
+                     at_b, sum_b, nb);
     q.hausdorff = std::max(max_a, max_b) / diag;
+    q.hausdorff_on_input = max_b > max_a;
+    q.hausdorff_at = q.hausdorff_on_input ? at_b : at_a;
     q.mean_distance =
         0.5 *
         (sum_a / double(std::max<uint64_t>(na, 1)) + sum_b / double(std::max<uint64_t>(nb, 1))) /

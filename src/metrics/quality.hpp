@@ -36,6 +36,10 @@ struct QualityReport {
   double angle_deviation_mean = 0, angle_deviation_max = 0;  // |corner angle - 90| in degrees
   double edge_mean = 0, edge_cv = 0;
   double hausdorff = 0, mean_distance = 0;  // over the reference's bounding-box diagonal
+  // Where the Hausdorff distance is reached: a point of the input farthest from the quads
+  // (hausdorff_on_input), else a point of the quads farthest from the input.
+  Vec3 hausdorff_at;
+  bool hausdorff_on_input = false;
   bool has_reference = false;
 };
 

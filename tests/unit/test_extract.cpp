@@ -186,6 +186,13 @@ TEST(Quality, DetectsFlipsNonManifoldEdgesAndDistance) {
   q = measure_quality(shifted, &m);
   EXPECT_NEAR(q.hausdorff * std::sqrt(5.0), 0.1, 1e-9);  // diagonal of 2 x 1 x 0 box
   EXPECT_NEAR(q.mean_distance * std::sqrt(5.0), 0.1, 1e-9);
+  // One corner lifted by 0.3: the farthest point is that corner, on the quads' side.
+  PolyMesh lifted = m;
+  lifted.positions[4].z = 0.3;
+  q = measure_quality(lifted, &m);
+  EXPECT_FALSE(q.hausdorff_on_input);
+  EXPECT_LT(norm(q.hausdorff_at - lifted.positions[4]), 1e-12);
+  EXPECT_NEAR(q.hausdorff * std::sqrt(5.0), 0.3, 1e-9);
 }
 
 TEST(Quality, SurfaceNormalAtCreaseCornersIsTakenOnTheQuadsSide) {
