@@ -44,7 +44,8 @@ struct Untangler {
   std::vector<char> fixed;             // a meta-vertex, or on a crease or the mesh boundary
   std::vector<const Polyline*> slide;  // the crease or boundary a vertex may slide along
   std::vector<Vec3> origin;            // where the map put each vertex
-  double fidelity = 0.15;              // how far its quads may leave that point, in edge lengths
+  double reach = 0;                    // how far from there any vertex may go
+  double fidelity = 0;                 // how far a singularity's quads may leave that point
 
   // Distance from x to the quads around v, each taken as four triangles about its centroid.
   double distance_to_fan(uint32_t v, const Vec3& x) const {
@@ -134,14 +135,18 @@ struct Untangler {
     Local best_q = q0;
     SurfacePoint best = s0;
     Vec3 best_p = p0;
+    // Steps scale with the local edge length, but never beyond the target size: along a
+    // stretched quad they would carry a vertex far from where the map put it.
+    len = std::min(len, reach);
     auto trial = [&](const Vec3& x) {
       const SurfacePoint s = project_locally(base, s0.face, x);
+      if (squared_norm(position_of(base, s) - origin[v]) > reach * reach) return;
       if (qm.vertex_meta_vertex[v] != kInvalid || slide[v]) {
         // A singularity or crease vertex must keep covering the surface point the map chose:
         // it may glide along the surface, not cut off a tip (a horn, a finger) it stood on.
         const Vec3 old = qm.positions[v];
         qm.positions[v] = position_of(base, s);
-        const bool covers = distance_to_fan(v, origin[v]) <= fidelity * len;
+        const bool covers = distance_to_fan(v, origin[v]) <= fidelity;
         qm.positions[v] = old;
         if (!covers) return;
       }
@@ -179,7 +184,8 @@ void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, con
               std::vector<char>(n, 0),
               std::vector<const Polyline*>(n, nullptr),
               qm.positions,
-              o.fidelity,
+              o.reach * o.edge_length,
+              o.fidelity * o.edge_length,
               std::vector<std::vector<uint32_t>>(n),
               std::vector<std::vector<uint32_t>>(n)};
   // Meta-vertices where a crease or the mesh boundary meets stay; the others are singularities

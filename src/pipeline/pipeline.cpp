@@ -73,8 +73,11 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
   run.quads = extract_quads(run.seg.refined, surface, run.seg.labels, run.seg.meta, run.layout,
                             run.param, run.extract_report);
   if (o.smooth > 0) smooth_quads(run.quads, surface, run.seg.meta, o.smooth, run.smooth_report);
-  if (o.untangle)
-    untangle_quads(run.quads, surface, run.seg.refined.mesh, run.seg.meta, {}, run.untangle_report);
+  if (o.untangle) {
+    UntangleOptions uo;
+    uo.edge_length = run.layout.edge_length;
+    untangle_quads(run.quads, surface, run.seg.refined.mesh, run.seg.meta, uo, run.untangle_report);
+  }
   if (run.subdivisions > 0)
     for (SurfacePoint& p : run.quads.surface) p = to_component(run.surface, p);
   run.extract_seconds = seconds_since(t0);
