@@ -19,7 +19,8 @@ namespace {
 struct RemeshArgs {
   std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global";
   PatchArgs patch;
-  bool json = false, quiet = false, improve_corners = true, no_untangle = false;
+  bool json = false, quiet = false, improve_corners = true, no_untangle = false,
+       split_patches = false;
   uint32_t smooth = 0;
   std::vector<double> view;
   int report_width = 1200;
@@ -51,6 +52,10 @@ Runner add_remesh(CLI::App& app) {
                   "Tangential smoothing iterations after extraction, vertices kept on the input "
                   "surface (default 0: the map's lattice points as they are)")
       ->capture_default_str();
+  sub->add_flag("--split-patches", a->split_patches,
+                "Split every patch into four-sided ones before the layout (the paper's section 5 "
+                "repair, which always admits a layout; done anyway when nothing else does): more "
+                "singularities");
   sub->add_flag("--no-untangle", a->no_untangle,
                 "Keep the lattice points where the map puts them, even where a quad folds "
                 "against the surface (by default such quads' corners are moved along it)");
@@ -87,6 +92,7 @@ Runner add_remesh(CLI::App& app) {
     o.repair = a->prep.repair;
     o.smooth = a->smooth;
     o.untangle = !a->no_untangle;
+    o.split_patches = a->split_patches;
     o.improve_corners = a->improve_corners;
     o.quality = a->json || !a->report_dir.empty();
     const RemeshRun run = remesh_run(read.mesh, o, read.unshared_vertices, say);

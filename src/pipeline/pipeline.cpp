@@ -1,5 +1,7 @@
 #include "pipeline/pipeline.hpp"
 
+#include <fmt/format.h>
+
 #include <chrono>
 
 #include "isoquad/error.hpp"
@@ -56,9 +58,31 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
   lo.edge_length = o.edge_length > 0 ? h : 0;
   lo.quads = o.edge_length > 0 ? 0 : (o.quads > 0 ? o.quads * run.area_share : 0);
   t0 = Clock::now();
-  run.layout_report = {};
-  run.layout = solve_layout(run.seg.refined.mesh, run.seg.labels, run.seg.feature, run.seg.meta, lo,
-                            run.layout_report);
+  auto split = [&] {
+    run.quad_split.emplace();
+    split_patches_into_quads(run.seg, *run.quad_split);
+  };
+  auto layout = [&] {
+    run.layout_report = {};
+    run.layout = solve_layout(run.seg.refined.mesh, run.seg.labels, run.seg.feature, run.seg.meta,
+                              lo, run.layout_report);
+  };
+  if (o.quad_split) split();
+  try {
+    layout();
+  } catch (const Error& e) {
+    // The paper's repair (§5), which always succeeds, once nothing cheaper did.
+    if (e.code() != "E402" || run.quad_split) throw;
+    split();
+    layout();
+  }
+  if (run.quad_split)
+    run.layout_report.repairs.push_back(
+        fmt::format("every patch split into four-sided ones (paper section 5): {} -> {} patches{}",
+                    run.quad_split->patches_before, run.quad_split->patches_after,
+                    run.quad_split->refinements
+                        ? fmt::format(", surface refined {} times", run.quad_split->refinements)
+                        : ""));
   run.layout_seconds += seconds_since(t0);
   if (o.last == Stage::layout) return;
 

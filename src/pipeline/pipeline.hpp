@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/poly_mesh.hpp"
@@ -13,6 +14,7 @@
 #include "layout/layout.hpp"
 #include "param/param.hpp"
 #include "prep/prepare.hpp"
+#include "seg/quad_split.hpp"
 #include "seg/segment.hpp"
 
 namespace isoquad {
@@ -28,6 +30,9 @@ struct PipelineOptions {
   ParamOptions param;
   uint32_t smooth = 0;   // tangential smoothing iterations after extraction
   bool untangle = true;  // repair quads folded against the surface (extract/untangle.hpp)
+  // Split every patch into four-sided ones before the layout (seg/quad_split.hpp). Otherwise
+  // this happens only when no corner choice or meta-vertex insertion makes the layout feasible.
+  bool quad_split = false;
   // Midpoint subdivisions of a coarse component until it has this many triangles per target
   // quad (0: never; 8 is also the default size's density, so default runs subdivide only small
   // inputs). The map is linear on each triangle, so on a coarse input every quad straddling two
@@ -48,6 +53,7 @@ struct ComponentRun {
   uint32_t subdivision_retreats = 0;  // levels given up because the finer map did not certify
   bool corners_unrefined = false;     // the refined corners' map did not certify: the ILP's used
   SegmentResult seg;
+  std::optional<QuadSplitReport> quad_split;  // when the patches were split into quads
   Layout layout;
   LayoutReport layout_report;
   Param param;

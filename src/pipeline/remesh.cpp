@@ -31,7 +31,8 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"feature_angle", o.feature_angle_deg},
           {"repair", o.repair},
           {"smooth", o.smooth},
-          {"untangle", o.untangle}};
+          {"untangle", o.untangle},
+          {"split_patches", o.split_patches}};
 }
 
 }  // namespace
@@ -67,6 +68,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.seed = opt.seed;
   o.smooth = opt.smooth;
   o.untangle = opt.untangle;
+  o.quad_split = opt.split_patches;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;

@@ -2,12 +2,14 @@
 #include <map>
 
 #include "core/transition.hpp"
+#include "isoquad/error.hpp"
 #include "layout/charts.hpp"
 #include "layout/corners.hpp"
 #include "layout/flow.hpp"
 #include "layout/quantize.hpp"
 #include "layout_checks.hpp"
 #include "prep/prepare.hpp"
+#include "seg/quad_split.hpp"
 #include "seg/segment.hpp"
 #include "shapes.hpp"
 
@@ -222,4 +224,39 @@ TEST(Flow, RejectsRotationalLayouts) {
   const std::vector<SideRow> rows = {{{0, 1}, {1, -1}}, {{1, 1}, {2, -1}}, {{2, 1}, {0, 1}}};
   EXPECT_FALSE(network_signs(3, rows).has_value());
   EXPECT_FALSE(solve_lengths_flow({1, 1, 1}, rows).has_value());
+}
+
+// The paper's last-resort repair (§5): after the split every patch is a disk with exactly four
+// meta-vertices (a Catmull-Clark step of the meta-mesh: one patch per side of each old one), the
+// meta-mesh keeps the surface's Euler characteristic, and every layout is feasible, here on a
+// sphere and a plate with a hole (mesh boundary). Not yet on every surface: on a torus with 8
+// patches the greedy disjoint paths block each other (see seg/quad_split.hpp).
+TEST(QuadSplit, EveryPatchFourSidedAndTheLayoutFeasible) {
+  for (const auto& [mesh, k] :
+       {std::pair{test::icosphere(3), 8u}, std::pair{test::plate_with_hole(16), 4u}}) {
+    Built b = segmented(mesh, k);
+    SCOPED_TRACE(mesh.num_faces());
+    uint32_t sides = 0;
+    for (const MetaFace& f : b.seg.meta.faces) sides += uint32_t(f.cycle.size());
+    QuadSplitReport report;
+    try {
+      split_patches_into_quads(b.seg, report);
+    } catch (const Error& e) {
+      ADD_FAILURE() << e.what();
+      continue;
+    }
+    EXPECT_GT(report.patches_after, report.patches_before);
+    EXPECT_LE(report.patches_after, sides);  // one per side, fewer where inserted ones merged
+    EXPECT_EQ(b.seg.num_patches, report.patches_after);
+    for (const MetaFace& f : b.seg.meta.faces) EXPECT_EQ(f.cycle.size(), 4u);
+    EXPECT_EQ(b.seg.meta.euler(), b.seg.refined.mesh.euler_characteristic());
+    check_meta_mesh(b.seg.refined.mesh, b.seg.labels, b.seg.meta);
+    LayoutOptions o;
+    o.quads = 40 * report.patches_after;
+    LayoutReport lr;
+    const Layout l =
+        solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, b.seg.meta, o, lr);
+    test::expect_valid_layout(b.seg.meta, l);
+    EXPECT_TRUE(lr.length_optimal);
+  }
 }
