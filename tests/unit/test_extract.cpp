@@ -147,10 +147,7 @@ TEST(Extract, EveryVertexIsOnTheInputSurface) {
       sum += b;
     }
     EXPECT_NEAR(sum, 1.0, 1e-12);
-    const Tri& t = base.face(s.face);
-    const Vec3 p = s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
-                   s.bary[2] * base.position(t[2]);
-    EXPECT_LT(norm(p - qm.positions[v]), 1e-12);
+    EXPECT_LT(norm(position_of(base, s) - qm.positions[v]), 1e-12);
   }
 }
 
@@ -265,11 +262,7 @@ TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {
   EXPECT_GE(after.sj_min, before.sj_min);
   EXPECT_LT(after.edge_cv, before.edge_cv);
   for (std::size_t v = 0; v < q.positions.size(); ++v) {
-    const SurfacePoint& s = q.surface[v];
-    const Tri& t = base.face(s.face);
-    const Vec3 p = s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
-                   s.bary[2] * base.position(t[2]);
-    EXPECT_LT(norm(p - q.positions[v]), 1e-12);
+    EXPECT_LT(norm(position_of(base, q.surface[v]) - q.positions[v]), 1e-12);
     if (q.vertex_meta_vertex[v] != kInvalid) {
       EXPECT_EQ(q.positions[v], r.run.quads.positions[v]);
     }
@@ -325,11 +318,7 @@ TEST(Untangle, UndoesFoldsAgainstTheSurface) {
   EXPECT_GT(report.min_after, 0);
   EXPECT_GT(report.moves, 0u);
   for (std::size_t v = 0; v < q.positions.size(); ++v) {
-    const SurfacePoint& s = q.surface[v];
-    const Tri& t = base.face(s.face);
-    const Vec3 p = s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
-                   s.bary[2] * base.position(t[2]);
-    EXPECT_LT(norm(p - q.positions[v]), 1e-12);
+    EXPECT_LT(norm(position_of(base, q.surface[v]) - q.positions[v]), 1e-12);
     EXPECT_EQ(q.positions[v], again.positions[v]);
     EXPECT_LE(norm(q.positions[v] - start.positions[v]), uo.reach * uo.edge_length);
   }
@@ -350,11 +339,7 @@ TEST(Pipeline, CoarseComponentsAreSubdividedWithExactProvenance) {
   EXPECT_EQ(r.mesh.num_faces(), 16 * comp.mesh.num_faces());
   // Every vertex is reproduced by its provenance in the component.
   for (uint32_t v = 0; v < r.mesh.num_vertices(); ++v) {
-    const SurfacePoint s = r.vertex_origin(v);
-    const Tri& t = comp.mesh.face(s.face);
-    const Vec3 p = s.bary[0] * comp.mesh.position(t[0]) + s.bary[1] * comp.mesh.position(t[1]) +
-                   s.bary[2] * comp.mesh.position(t[2]);
-    EXPECT_LT(norm(p - r.mesh.position(v)), 1e-14);
+    EXPECT_LT(norm(position_of(comp.mesh, r.vertex_origin(v)) - r.mesh.position(v)), 1e-14);
   }
   // Creases are inherited by both halves, four times as many edges after two levels.
   uint32_t sub_features = 0;
@@ -377,9 +362,6 @@ TEST(Pipeline, QuadVerticesOnASubdividedSurfaceAreExpressedInTheInput) {
   for (std::size_t v = 0; v < run.quads.positions.size(); ++v) {
     const SurfacePoint& s = run.quads.surface[v];
     ASSERT_LT(s.face, base.num_faces());
-    const Tri& t = base.face(s.face);
-    const Vec3 p = s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
-                   s.bary[2] * base.position(t[2]);
-    EXPECT_LT(norm(p - run.quads.positions[v]), 1e-12);
+    EXPECT_LT(norm(position_of(base, s) - run.quads.positions[v]), 1e-12);
   }
 }
