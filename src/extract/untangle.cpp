@@ -41,7 +41,7 @@ struct Polyline {
 struct Untangler {
   QuadMesh& qm;
   const TriMesh& base;
-  std::vector<char> fixed;             // a meta-vertex, or on a crease or the mesh boundary
+  std::vector<char> fixed;  // a pinned meta-vertex, or on a crease or the boundary (those slide)
   std::vector<const Polyline*> slide;  // the crease or boundary a vertex may slide along
   std::vector<Vec3> origin;            // where the map put each vertex
   double reach = 0;                    // how far from there any vertex may go
@@ -135,8 +135,8 @@ struct Untangler {
     Local best_q = q0;
     SurfacePoint best = s0;
     Vec3 best_p = p0;
-    // Steps scale with the local edge length, but never beyond the target size: along a
-    // stretched quad they would carry a vertex far from where the map put it.
+    // Steps scale with the local edge length, but never beyond the reach: along a stretched
+    // quad they would carry a vertex far from where the map put it.
     len = std::min(len, reach);
     auto trial = [&](const Vec3& x) {
       const SurfacePoint s = project_locally(base, s0.face, x);
