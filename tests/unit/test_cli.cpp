@@ -187,6 +187,38 @@ TEST(Cli, RemeshQualityAndParamOnSampleMeshes) {
   std::filesystem::remove(obj);
 }
 
+// The untangling and layout switches: by default folded quads are untangled (and the JSON says
+// how many), --no-untangle leaves the map's lattice points (no move), --split-patches makes every
+// patch four-sided first and says so among the layout repairs.
+TEST(Cli, RemeshUntangleAndSplitSwitches) {
+  const auto out = std::filesystem::temp_directory_path() /
+                   ("isoquad_cli_switches_" + std::to_string(::getpid()) + ".obj");
+  const std::string in = (isoquad::test::data_dir() / "fandisk.off").string();
+  const std::string base = "remesh " + in + " -o " + out.string() + " --quads 600 --json";
+  const CliRun a = run(base);
+  ASSERT_EQ(a.status, 0) << a.err;
+  const auto ja = nlohmann::json::parse(a.out);
+  const auto& ua = ja["components"][0]["untangle"];
+  EXPECT_LE(ua["folded_after"].get<int>(), ua["folded_before"].get<int>());
+  EXPECT_EQ(ja["quality"]["scaled_jacobian_surface"]["nonpositive"], ua["folded_after"]);
+  const CliRun b = run(base + " --no-untangle");
+  ASSERT_EQ(b.status, 0) << b.err;
+  const auto jb = nlohmann::json::parse(b.out);
+  EXPECT_EQ(jb["components"][0]["untangle"]["moves"].get<int>(), 0);
+  EXPECT_EQ(jb["quality"]["scaled_jacobian_surface"]["nonpositive"], ua["folded_before"]);
+  const CliRun c = run(base + " --split-patches");
+  ASSERT_EQ(c.status, 0) << c.err;
+  const auto jc = nlohmann::json::parse(c.out);
+  EXPECT_TRUE(jc["quality"]["pure_quad"].get<bool>());
+  EXPECT_TRUE(jc["quality"]["same_topology"].get<bool>());
+  EXPECT_TRUE(jc["options"]["split_patches"].get<bool>());
+  bool split = false;
+  for (const auto& s : jc["components"][0]["layout_repairs"])
+    split |= s.get<std::string>().find("four-sided") != std::string::npos;
+  EXPECT_TRUE(split) << jc["components"][0]["layout_repairs"].dump();
+  std::filesystem::remove(out);
+}
+
 TEST(Cli, RemeshFailureLeavesNoOutput) {
   const auto bad = write_temp("isoquad_cli_bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
   const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_never.obj";
