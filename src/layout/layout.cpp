@@ -157,7 +157,7 @@ bool insert_on_zero_edges(const TriMesh& mesh, const FaceData<uint32_t>& labels,
 // tried in place of its corners, and the best is kept when the LP relaxation of the length
 // program plus the corner and valence costs drops. The corner ILP sees the side lengths of each
 // patch alone; this sees how the side equations of all patches interact. One sweep: on fandisk,
-// bunny00, elephant, cactus, knot1 and anchor the four best candidates of one sweep gave 75-80%
+// bunny00, elephant, cactus, knot1 and anchor the four best candidates of one sweep gave 73-80%
 // of the objective drop of eight candidates over two sweeps, at a quarter of the LP solves.
 // The four trials of a patch run in parallel, each on its own LP (so each LP's warm starts, and
 // the result, do not depend on thread timing); ties go to the better-ranked candidate.
