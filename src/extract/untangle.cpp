@@ -46,6 +46,7 @@ struct Untangler {
   std::vector<Vec3> origin;            // where the map put each vertex
   double reach = 0;                    // how far from there any vertex may go
   double fidelity = 0;                 // how far a singularity's quads may leave that point
+  double short_edge = 0;               // edges below this count against a corner
 
   // Distance from x to the quads around v, each taken as four triangles about its centroid.
   double distance_to_fan(uint32_t v, const Vec3& x) const {
@@ -75,7 +76,10 @@ struct Untangler {
     return face_normal(base, s.face);
   }
 
-  // The scaled Jacobians of quad f's four corners.
+  // The scaled Jacobians of quad f's four corners, as the moves judge them: a corner on an
+  // edge shorter than `short_edge` counts its positive value scaled down by the edge's share of
+  // it, and one on a collapsed edge counts -1. The scaled Jacobian alone does not see edge
+  // length, and on fandisk folds were traded for quads with two coincident corners.
   std::array<double, 4> corner_sj(uint32_t f) const {
     const auto& q = qm.quads[f];
     std::array<double, 4> sj;
@@ -83,7 +87,13 @@ struct Untangler {
       const Vec3& p = qm.positions[q[k]];
       const Vec3 e1 = qm.positions[q[(k + 1) % 4]] - p, e2 = qm.positions[q[(k + 3) % 4]] - p;
       const double l = norm(e1) * norm(e2);
-      sj[k] = l > 0 ? dot(corner_normal(q, k, e1, e2), cross(e1, e2)) / l : 0.0;
+      if (!(l > 0)) {
+        sj[k] = -1;
+        continue;
+      }
+      sj[k] = dot(corner_normal(q, k, e1, e2), cross(e1, e2)) / l;
+      const double shortest = std::min(norm(e1), norm(e2));
+      if (sj[k] > 0 && shortest < short_edge) sj[k] *= shortest / short_edge;
     }
     return sj;
   }
@@ -186,6 +196,7 @@ void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, con
               qm.positions,
               o.reach * o.edge_length,
               o.fidelity * o.edge_length,
+              o.short_edge * o.edge_length,
               std::vector<std::vector<uint32_t>>(n),
               std::vector<std::vector<uint32_t>>(n)};
   // Meta-vertices where a crease or the mesh boundary meets stay; the others are singularities

@@ -12,7 +12,7 @@
 // not cut off. Deterministic (fixed visiting order and trial positions).
 //
 // Corpus at 1,500 quads, quads folded against the surface after untangling: 149 moving free
-// vertices only (817 without untangling); 55 with singularities moving and crease vertices
+// vertices only (817 without untangling); 52 with singularities moving and crease vertices
 // sliding. Letting singularities move without the fidelity bound gave 45 but took the cow's
 // horn tips off (Hausdorff distance 3.4% -> 5.7% of the diagonal); without the reach bound a
 // vertex at the end of a stretched quad on anchor (default size) was dragged 40% of the
@@ -36,6 +36,7 @@ struct UntangleOptions {
   // A singularity or crease vertex must keep its original surface point within this distance of
   // its quads, so that the mesh glides along the surface instead of cutting off tips.
   double fidelity = 0.15;
+  double short_edge = 0.2;  // quads with an edge shorter than this count as worse shaped
 };
 
 struct UntangleReport {
