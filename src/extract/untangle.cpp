@@ -80,10 +80,15 @@ struct Untangler {
   // edge shorter than `short_edge` counts its positive value scaled down by the edge's share of
   // it, and one on a collapsed edge counts -1. The scaled Jacobian alone does not see edge
   // length, and on fandisk folds were traded for quads with two coincident corners.
-  std::array<double, 4> corner_sj(uint32_t f) const {
+  // `known` >= 0 names a corner whose value is passed in `known_value` instead of computed.
+  std::array<double, 4> corner_sj(uint32_t f, int known = -1, double known_value = 0) const {
     const auto& q = qm.quads[f];
     std::array<double, 4> sj;
     for (int k = 0; k < 4; ++k) {
+      if (k == known) {
+        sj[k] = known_value;
+        continue;
+      }
       const Vec3& p = qm.positions[q[k]];
       const Vec3 e1 = qm.positions[q[(k + 1) % 4]] - p, e2 = qm.positions[q[(k + 3) % 4]] - p;
       const double l = norm(e1) * norm(e2);
@@ -108,10 +113,13 @@ struct Untangler {
   struct Local {
     double worst = 1, shortfall = 0;
   };
-  Local local_quality(uint32_t v, double cap) const {
+  // `opposite` holds, per quad at v, the value of its corner opposite v: moving v does not change
+  // it (its edges do not end at v), so a trial needs only the other three.
+  Local local_quality(uint32_t v, double cap,
+                      const std::vector<std::pair<int, double>>& opposite) const {
     Local l;
-    for (const uint32_t f : around[v])
-      for (const double s : corner_sj(f)) {
+    for (std::size_t i = 0; i < around[v].size(); ++i)
+      for (const double s : corner_sj(around[v][i], opposite[i].first, opposite[i].second)) {
         l.worst = std::min(l.worst, s);
         if (s < cap) l.shortfall += (cap - s) * (cap - s);
       }
@@ -127,7 +135,13 @@ struct Untangler {
   bool improve(uint32_t v, double cap) {
     const Vec3 p0 = qm.positions[v];
     const SurfacePoint s0 = qm.surface[v];
-    const Local q0 = local_quality(v, cap);
+    std::vector<std::pair<int, double>> opposite;
+    for (const uint32_t f : around[v]) {
+      const auto& q = qm.quads[f];
+      const int k = int((std::find(q.begin(), q.end(), v) - q.begin() + 2) % 4);
+      opposite.push_back({k, corner_sj(f)[k]});
+    }
+    const Local q0 = local_quality(v, cap, opposite);
     double len = 0;
     Vec3 avg;
     for (const uint32_t w : nbr[v]) {
@@ -162,7 +176,7 @@ struct Untangler {
       }
       qm.positions[v] = position_of(base, s);
       qm.surface[v] = s;
-      const Local q = local_quality(v, cap);
+      const Local q = local_quality(v, cap, opposite);
       if (better(q, best_q)) best_q = q, best = s, best_p = qm.positions[v];
     };
     if (const Polyline* line = slide[v]) {

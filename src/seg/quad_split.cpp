@@ -65,10 +65,10 @@ std::vector<Side> sides_of(const TriMesh& mesh, const MetaMesh& meta, const std:
     side_of[e] = root_side[r];
   }
   // Chain each side's meta-edges from one kept end to the other.
+  std::vector<std::vector<uint32_t>> members_of(sides.size());
+  for (uint32_t e = 0; e < ne; ++e) members_of[side_of[e]].push_back(e);
   for (uint32_t s = 0; s < sides.size(); ++s) {
-    std::vector<uint32_t> members;
-    for (uint32_t e = 0; e < ne; ++e)
-      if (side_of[e] == s) members.push_back(e);
+    const std::vector<uint32_t>& members = members_of[s];
     uint32_t start = kInvalid;
     for (const uint32_t e : members)
       for (const uint32_t v : {meta.edges[e].mv0, meta.edges[e].mv1})
