@@ -30,15 +30,20 @@ std::array<double, 3> midpoint(const std::array<double, 3>& a, const std::array<
 }  // namespace
 
 RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edges,
-                        FaceData<uint32_t>* face_labels, EdgeData<char>* edge_flags) {
+                        FaceData<uint32_t>* face_labels, EdgeData<char>* edge_flags,
+                        const std::vector<double>* fractions) {
   const TriMesh& m = in.mesh;
   std::vector<uint32_t> mid(m.num_edges(), kInvalid);  // edge -> new vertex
+  std::vector<double> at(fractions ? m.num_edges() : 0, 0.5);
   std::vector<Vec3> positions = m.positions();
-  for (uint32_t e : edges) {
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const uint32_t e = edges[i];
     if (mid[e] != kInvalid) continue;
     const uint32_t h = m.edge_halfedge(e);
+    const double t = fractions ? (*fractions)[i] : 0.5;
+    if (fractions) at[e] = t;
     mid[e] = uint32_t(positions.size());
-    positions.push_back(0.5 * (m.position(m.from(h)) + m.position(m.to(h))));
+    positions.push_back((1 - t) * m.position(m.from(h)) + t * m.position(m.to(h)));
   }
   std::vector<Tri> faces;
   std::vector<uint32_t> base_face, labels;
@@ -54,7 +59,13 @@ RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edge
     int splits = 0, first = -1;
     for (int i = 0; i < 3; ++i) {
       ms[i] = mid[m.edge(3 * f + i)];
-      mb[i] = midpoint(cb[i], cb[(i + 1) % 3]);
+      if (!fractions) {
+        mb[i] = midpoint(cb[i], cb[(i + 1) % 3]);
+      } else {  // the fraction is from the edge's own halfedge's start
+        const uint32_t e = m.edge(3 * f + i);
+        const double s = m.from(m.edge_halfedge(e)) == t[i] ? at[e] : 1 - at[e];
+        for (int k = 0; k < 3; ++k) mb[i][k] = (1 - s) * cb[i][k] + s * cb[(i + 1) % 3][k];
+      }
       if (ms[i] != kInvalid) {
         ++splits;
         if (first < 0) first = i;

@@ -29,10 +29,14 @@ struct RefinedMesh {
 
 RefinedMesh identity_refinement(const TriMesh& base);
 
-// Splits each listed edge at its midpoint; every triangle with split edges is divided (into 2,
-// 3 or 4). New vertices are appended; old ids stay. Face data in `face_labels` is inherited by
-// the pieces; edge flags in `edge_flags` are inherited by the two halves (new edges get 0).
+// Splits each listed edge at its midpoint, or where `fractions` says (fractions[i] for
+// edges[i], from the start of the edge's halfedge `edge_halfedge(e)`); every triangle with
+// split edges is divided (into 2, 3 or 4). New vertices are appended in the order of `edges`
+// (first listing counts); old ids stay. Face data in `face_labels` is inherited by the pieces;
+// edge flags in `edge_flags` are inherited by the two halves (new edges get 0). Two split points
+// on edges of one triangle are always joined by an edge of the result.
 RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edges,
-                        FaceData<uint32_t>* face_labels, EdgeData<char>* edge_flags);
+                        FaceData<uint32_t>* face_labels, EdgeData<char>* edge_flags,
+                        const std::vector<double>* fractions = nullptr);
 
 }  // namespace isoquad

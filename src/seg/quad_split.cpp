@@ -3,8 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
 #include <optional>
+
+#include <Eigen/Sparse>
 
 #include "core/face_regions.hpp"
 #include "core/union_find.hpp"
@@ -100,7 +104,300 @@ std::vector<Side> sides_of(const TriMesh& mesh, const MetaMesh& meta, const std:
   return sides;
 }
 
+// What became of a patch: cut, or not yet (the edges to split are listed), or the whole patch
+// is to be refined.
+enum class WedgeResult { cut, refine_listed, refine_patch };
+
+// A point of a cut path: a mesh vertex, or a point on an edge (at `fraction` from the start of
+// the edge's halfedge) where the edge is to be split.
+struct Node {
+  uint32_t vertex = kInvalid;
+  uint32_t edge = kInvalid;
+  double fraction = 0;
+};
+using Path = std::vector<Node>;
+
+// Per-element scratch, kInvalid / 0 between patches.
+struct Scratch {
+  std::vector<uint32_t> local;     // vertex -> index in the patch's map
+  std::vector<uint32_t> face_ray;  // face -> the ray through it
+  std::vector<char> vertex_ray;    // vertex -> on a ray
+};
+
+// The cut paths of one patch, from its centre to its side midpoints (`targets`, CCW), drawn in
+// a convex map of the patch (see quad_split.hpp): along mesh edges inside the rays' cells when
+// that fits, else along the straight rays (crossed edges listed as split points). Appends the
+// paths to `paths` on success; otherwise lists the edges to split in `refine` (or asks for the
+// whole patch). Chooses the centre when `centre` is kInvalid. `inside(v)`: v is an interior
+// vertex of the patch; `faces`: the patch's faces; `scratch` is clean on entry and on return.
+WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t patch,
+                        const MetaMesh& meta, uint32_t& centre,
+                        const std::vector<uint32_t>& targets, const std::vector<uint32_t>& faces,
+                        const std::function<bool(uint32_t)>& inside, Scratch& scratch,
+                        std::vector<Path>& paths, std::vector<uint32_t>& refine) {
+  const MetaFace& face = meta.faces[patch];
+  std::vector<uint32_t>& local = scratch.local;
+  std::vector<uint32_t>& face_ray = scratch.face_ray;
+  std::vector<char>& vertex_ray = scratch.vertex_ray;
+  // The boundary loop in CCW order, then the interior vertices.
+  std::vector<uint32_t> loop, verts;
+  for (const BoundaryItem& it : face.cycle) {
+    std::vector<uint32_t> part = meta.edges[it.edge].vertices;
+    if (!it.forward) std::reverse(part.begin(), part.end());
+    loop.insert(loop.end(), part.begin(), part.end() - 1);
+  }
+  auto clear = [&] {
+    for (const uint32_t v : loop) local[v] = kInvalid;
+    for (const uint32_t v : verts) local[v] = kInvalid;
+  };
+  for (uint32_t i = 0; i < loop.size(); ++i) {
+    if (local[loop[i]] != kInvalid) {  // a pinched loop has no circle map
+      for (uint32_t j = 0; j < i; ++j) local[loop[j]] = kInvalid;
+      return WedgeResult::refine_patch;
+    }
+    local[loop[i]] = i;
+  }
+  const uint32_t nb = uint32_t(loop.size());
+  for (const uint32_t f : faces)
+    for (const uint32_t v : mesh.face(f))
+      if (local[v] == kInvalid && inside(v))
+        local[v] = nb + uint32_t(verts.size()), verts.push_back(v);
+  std::vector<std::array<double, 2>> at(nb + verts.size());
+  // The loop on the unit circle with the midpoints evenly spaced (arc length in between), so
+  // that seen from the middle of the map the rays are evenly spread whatever the sides' lengths.
+  const uint32_t m = uint32_t(targets.size());
+  const uint32_t first = local[targets[0]];
+  std::vector<double> arc(nb + 1, 0.0);  // from the first midpoint, CCW
+  for (uint32_t i = 0; i < nb; ++i)
+    arc[i + 1] = arc[i] + norm(mesh.position(loop[(first + i + 1) % nb]) -
+                               mesh.position(loop[(first + i) % nb]));
+  for (uint32_t k = 0; k < m; ++k) {
+    const uint32_t a = (local[targets[k]] + nb - first) % nb;
+    const uint32_t b = k + 1 < m ? (local[targets[k + 1]] + nb - first) % nb : nb;
+    for (uint32_t i = a; i < b; ++i) {
+      const double t = 2 * M_PI * (k + (arc[i] - arc[a]) / (arc[b] - arc[a])) / m;
+      at[(first + i) % nb] = {std::cos(t), std::sin(t)};
+    }
+  }
+  // Floater's mean value map: x_i = sum_j w_ij x_j / sum_j w_ij with the positive mean value
+  // weights w_ij = (tan(a/2) + tan(b/2)) / |x_j - x_i| (a, b: the angles at i next to edge ij),
+  // an embedding like Tutte's uniform map but close to the surface's own shape: under uniform
+  // weights the splits that bisect the centre's gaps pull the centre towards the boundary and the
+  // gaps never close.
+  const Eigen::Index n = Eigen::Index(verts.size());
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
+  bool closed = true;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const uint32_t vi = verts[i];
+    const Vec3 xi = mesh.position(vi);
+    double total = 0;
+    auto add = [&](uint32_t vj, double w) {
+      const uint32_t j = local[vj];
+      total += w;
+      if (j == kInvalid)
+        closed = false;  // a neighbour outside the patch: not a disk
+      else if (j < nb)
+        rhs(i, 0) += w * at[j][0], rhs(i, 1) += w * at[j][1];
+      else
+        entries.emplace_back(i, Eigen::Index(j - nb), -w);
+    };
+    mesh.for_each_outgoing(vi, [&](uint32_t h) {
+      const uint32_t vj = mesh.to(h), vk = mesh.to(TriMesh::next(h));
+      const Vec3 a = mesh.position(vj) - xi, b = mesh.position(vk) - xi;
+      const double la = std::max(norm(a), 1e-300), lb = std::max(norm(b), 1e-300);
+      const double half = 0.5 * std::atan2(norm(cross(a, b)), dot(a, b));
+      const double t = std::max(std::tan(half), 1e-12);
+      add(vj, t / la);
+      add(vk, t / lb);
+    });
+    entries.emplace_back(i, i, total);
+  }
+  if (!closed) {
+    clear();
+    return WedgeResult::refine_patch;
+  }
+  if (n > 0) {
+    Eigen::SparseMatrix<double> A(n, n);
+    A.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver(A);
+    const Eigen::MatrixXd x = solver.solve(rhs);
+    for (Eigen::Index i = 0; i < n; ++i) at[nb + i] = {x(i, 0), x(i, 1)};
+  }
+  if (centre == kInvalid) {  // the interior vertex nearest to the middle of the map
+    double best = INFINITY;
+    for (uint32_t i = 0; i < verts.size(); ++i)
+      if (const double d = std::hypot(at[nb + i][0], at[nb + i][1]); d < best)
+        best = d, centre = verts[i];
+  }
+  const std::array<double, 2> c = at[local[centre]];
+  // First try paths along mesh edges, each inside the cell of its ray (the interior vertices
+  // nearer to that ray than to any other): cells are disjoint, connected and contain their ray
+  // (towards its nearest point on the ray, a point's distance to the ray falls faster than to
+  // any other), so on a fine enough mesh this needs no new vertex.
+  {
+    auto distance_to_ray = [&](const std::array<double, 2>& q, uint32_t k) {
+      const std::array<double, 2>& e = at[local[targets[k]]];
+      const double dx = e[0] - c[0], dy = e[1] - c[1], qx = q[0] - c[0], qy = q[1] - c[1];
+      const double t =
+          std::clamp((qx * dx + qy * dy) / std::max(dx * dx + dy * dy, 1e-300), 0.0, 1.0);
+      return std::hypot(qx - t * dx, qy - t * dy);
+    };
+    std::vector<uint32_t> cell(verts.size());
+    for (uint32_t i = 0; i < verts.size(); ++i) {
+      double best = INFINITY;
+      for (uint32_t k = 0; k < m; ++k)
+        if (const double d = distance_to_ray(at[nb + i], k); d < best) best = d, cell[i] = k;
+    }
+    std::vector<Path> edge_paths;
+    for (uint32_t k = 0; k < m; ++k) {
+      const uint32_t target = targets[k];
+      const ShortestPaths sp = vertex_dijkstra(
+          mesh, {centre},
+          [&](uint32_t v, uint32_t) {
+            return v == target || (v != centre && local[v] >= nb && cell[local[v] - nb] == k);
+          },
+          [&](uint32_t v) { return v == target; });
+      const std::vector<uint32_t> path = sp.path_to(target);
+      if (path.size() < 2) break;
+      Path nodes;
+      for (const uint32_t v : path) nodes.push_back({v, kInvalid, 0.0});
+      edge_paths.push_back(std::move(nodes));
+    }
+    if (edge_paths.size() == m) {
+      for (Path& path : edge_paths) paths.push_back(std::move(path));
+      clear();
+      return WedgeResult::cut;
+    }
+  }
+  // Otherwise cut along the rays themselves. Each ray, from the centre to its midpoint, is a
+  // straight segment of the map (the map is
+  // convex, so it stays inside and meets the loop only at its end). It is traced through the
+  // triangles: where it crosses an edge, the edge is to be split there; where it passes within
+  // kSnap of an edge's interior end, it goes through that vertex instead (no slivers) and goes
+  // on from there. Two rays never cross, but on a coarse mesh two may pass through one triangle
+  // or vertex: then the faces there are refined and the patch is traced again.
+  constexpr double kSnap = 0.15;
+  auto P = [&](uint32_t v) { return at[local[v]]; };
+  auto orient = [](const std::array<double, 2>& a, const std::array<double, 2>& b,
+                   const std::array<double, 2>& q) {
+    return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]);
+  };
+  auto movable = [&](uint32_t v) { return v != centre && local[v] >= nb && !vertex_ray[v]; };
+  std::vector<uint32_t> touched_faces, touched_vertices;
+  // A conflict refines where it is and abandons the ray; the other rays are still traced, so
+  // that one refinement settles all of a patch's conflicts.
+  bool conflicts = false, whole_patch = false;
+  auto fail = [&](std::initializer_list<uint32_t> faces_here, uint32_t edge = kInvalid) {
+    for (const uint32_t f : faces_here)
+      for (uint32_t i = 0; i < 3; ++i) refine.push_back(mesh.edge(3 * f + i));
+    if (edge != kInvalid) refine.push_back(edge);
+    conflicts = true;
+    return false;
+  };
+  std::vector<Path> found;
+  const uint32_t max_steps = 4 * uint32_t(faces.size()) + 16;
+  // One ray, from the centre to targets[k]; false on a conflict.
+  auto trace = [&](uint32_t k) {
+    const uint32_t target = targets[k];
+    const std::array<double, 2> T = P(target);
+    Path path{{centre, kInvalid, 0.0}};
+    uint32_t u = centre, steps = 0;
+    auto take_face = [&](uint32_t f) {
+      if (face_ray[f] != kInvalid) return false;
+      face_ray[f] = k;
+      touched_faces.push_back(f);
+      return true;
+    };
+    auto take_vertex = [&](uint32_t v) {
+      vertex_ray[v] = 1;
+      touched_vertices.push_back(v);
+      path.push_back({v, kInvalid, 0.0});
+    };
+    auto add_split = [&](uint32_t h, double s) {  // on halfedge h at fraction s from its start
+      const uint32_t e = mesh.edge(h);
+      path.push_back({kInvalid, e, mesh.from(mesh.edge_halfedge(e)) == mesh.from(h) ? s : 1 - s});
+    };
+    // The halfedge u -> a of the triangle (u, a, b) by which the direction to the target leaves u.
+    auto fan_halfedge = [&](uint32_t u) {
+      const std::array<double, 2> S = P(u);
+      uint32_t h_out = kInvalid;
+      mesh.for_each_outgoing(u, [&](uint32_t h) {
+        const uint32_t a = mesh.to(h), b = mesh.to(TriMesh::next(h));
+        if (h_out == kInvalid && orient(S, P(a), T) >= 0 && orient(S, P(b), T) < 0) h_out = h;
+      });
+      return h_out;
+    };
+    // A vertex the ray may go through: not on a ray yet and leaving it by a free triangle.
+    auto may_snap = [&](uint32_t v) {
+      if (!movable(v)) return false;
+      const uint32_t h = fan_halfedge(v);
+      return h != kInvalid && face_ray[TriMesh::face_of(h)] == kInvalid;
+    };
+    while (u != target) {
+      if (++steps > max_steps) return fail({});
+      // At vertex u: the fan triangle (u, a, b) that the direction to the target enters.
+      const std::array<double, 2> S = P(u);
+      const uint32_t h_out = fan_halfedge(u);
+      if (h_out == kInvalid) return fail({});
+      const uint32_t f0 = TriMesh::face_of(h_out);
+      const uint32_t a = mesh.to(h_out), b = mesh.to(TriMesh::next(h_out));
+      if (a == target || b == target) {  // the target is a neighbour of u
+        path.push_back({target, kInvalid, 0.0});
+        break;
+      }
+      // Two rays leaving u by one triangle: split the edge opposite u, which bisects the angle
+      // (splitting all three would leave u's angle whole).
+      if (!take_face(f0)) return fail({}, mesh.edge(TriMesh::next(h_out)));
+      // Walk across triangles: R right of the ray, L left, the ray crossing R -> L.
+      uint32_t x = TriMesh::next(h_out);  // halfedge a -> b: R = a, L = b
+      bool restarted = false;
+      while (!restarted) {
+        if (++steps > max_steps) return fail({});
+        const uint32_t R = mesh.from(x), L = mesh.to(x);
+        const double oR = orient(S, T, P(R)), oL = orient(S, T, P(L));
+        const double s = oR / (oR - oL);  // along R -> L
+        if (s < kSnap && may_snap(R)) {
+          take_vertex(R), u = R, restarted = true;
+          continue;
+        }
+        if (s > 1 - kSnap && may_snap(L)) {
+          take_vertex(L), u = L, restarted = true;
+          continue;
+        }
+        const uint32_t y = mesh.twin(x);
+        if (y == kInvalid || labels[TriMesh::face_of(y)] != patch) return fail({});
+        const uint32_t f = TriMesh::face_of(y);
+        if (!take_face(f)) {  // two rays through one triangle away from the centre
+          whole_patch = true;
+          return fail({});
+        }
+        add_split(x, std::clamp(s, 1e-6, 1 - 1e-6));
+        const uint32_t w = mesh.to(TriMesh::next(y));  // y = L -> R, then R -> w, w -> L
+        if (w == target) {
+          path.push_back({target, kInvalid, 0.0});
+          u = target;
+          break;
+        }
+        x = orient(S, T, P(w)) > 0 ? TriMesh::next(y) : TriMesh::next(TriMesh::next(y));
+      }
+    }
+    found.push_back(std::move(path));
+    return true;
+  };
+  for (uint32_t k = 0; k < m; ++k) trace(k);
+  for (const uint32_t f : touched_faces) face_ray[f] = kInvalid;
+  for (const uint32_t v : touched_vertices) vertex_ray[v] = 0;
+  clear();
+  if (whole_patch) return WedgeResult::refine_patch;
+  if (conflicts) return WedgeResult::refine_listed;
+  for (Path& path : found) paths.push_back(std::move(path));
+  return WedgeResult::cut;
+}
+
 struct Cut {
+  RefinedMesh refined;  // the surface with the rays' crossings split
+  EdgeData<char> feature;
   FaceData<uint32_t> labels;
   uint32_t num_patches = 0;
   std::vector<uint32_t> forced;  // meta-vertices of the split meta-mesh
@@ -109,9 +406,11 @@ struct Cut {
 // The cut of every patch along paths from its centre to its side midpoints; nothing if some
 // side has no midpoint, some patch no centre, or some path is blocked.
 // `centres` keeps each patch's centre across refinements (vertex ids survive edge splits).
-std::optional<Cut> cut_patches(const TriMesh& mesh, const FaceData<uint32_t>& labels,
-                               const MetaMesh& meta, std::vector<uint32_t>& centres,
-                               std::vector<uint32_t>& refine, uint32_t& dropped) {
+std::optional<Cut> cut_patches(const RefinedMesh& refined, const FaceData<uint32_t>& labels,
+                               const EdgeData<char>& feature, const MetaMesh& meta,
+                               std::vector<uint32_t>& centres, std::vector<uint32_t>& refine,
+                               uint32_t& dropped) {
+  const TriMesh& mesh = refined.mesh;
   const std::vector<char> keep = kept_meta_vertices(meta, dropped);
   std::vector<uint32_t> side_of;
   const std::vector<Side> sides = sides_of(mesh, meta, keep, side_of);
@@ -127,16 +426,19 @@ std::optional<Cut> cut_patches(const TriMesh& mesh, const FaceData<uint32_t>& la
     if (s.midpoint == kInvalid)  // a side of one mesh edge: split it
       refine.push_back(edge_between(s.vertices.front(), s.vertices.back()));
   if (!refine.empty()) return std::nullopt;
+  std::vector<std::vector<uint32_t>> patch_faces(meta.faces.size());
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) patch_faces[labels[f]].push_back(f);
   auto refine_patch = [&](uint32_t p) {
-    for (uint32_t f = 0; f < mesh.num_faces(); ++f)
-      if (labels[f] == p)
-        for (uint32_t i = 0; i < 3; ++i) refine.push_back(mesh.edge(3 * f + i));
+    for (const uint32_t f : patch_faces[p])
+      for (uint32_t i = 0; i < 3; ++i) refine.push_back(mesh.edge(3 * f + i));
   };
   // Interior vertices and their patch.
   const uint32_t nv = mesh.num_vertices();
   std::vector<uint32_t> patch_of(nv, kInvalid);
   for (uint32_t f = 0; f < mesh.num_faces(); ++f)
     for (const uint32_t v : mesh.face(f)) patch_of[v] = labels[f];
+  Scratch scratch{std::vector<uint32_t>(nv, kInvalid),
+                  std::vector<uint32_t>(mesh.num_faces(), kInvalid), std::vector<char>(nv, 0)};
   auto interior = [&](uint32_t v) {
     return meta.vertex_meta_vertex[v] == kInvalid && meta.vertex_meta_edge[v] == kInvalid &&
            !mesh.is_boundary_vertex(v);
@@ -145,7 +447,7 @@ std::optional<Cut> cut_patches(const TriMesh& mesh, const FaceData<uint32_t>& la
   for (uint32_t v = 0; v < meta.vertices.size(); ++v)
     if (keep[v]) cut.forced.push_back(meta.vertices[v].vertex);
   for (const Side& s : sides) cut.forced.push_back(s.midpoint);
-  std::vector<char> cut_edge(mesh.num_edges(), 0), used(nv, 0);
+  std::vector<Path> paths;
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     // The patch's sides in CCW order (consecutive items of one side counted once).
     std::vector<uint32_t> targets;
@@ -157,96 +459,64 @@ std::optional<Cut> cut_patches(const TriMesh& mesh, const FaceData<uint32_t>& la
         targets.push_back(sides[s].midpoint);
       for (const uint32_t v : meta.edges[it.edge].vertices) boundary.push_back(v);
     }
-    // The centre: the interior vertex farthest from the patch's boundary.
-    if (centres[p] == kInvalid) {
-      const ShortestPaths from_boundary = vertex_dijkstra(
-          mesh, boundary, [&](uint32_t v, uint32_t) { return interior(v) && patch_of[v] == p; });
-      for (uint32_t v = 0; v < nv; ++v)
-        if (interior(v) && patch_of[v] == p && from_boundary.distance[v] < INFINITY &&
-            (centres[p] == kInvalid ||
-             from_boundary.distance[v] > from_boundary.distance[centres[p]]))
-          centres[p] = v;
-    }
-    const uint32_t centre = centres[p];
-    if (centre == kInvalid) {  // no interior vertex at all
+    const auto inside = [&](uint32_t v) { return interior(v) && patch_of[v] == p; };
+    if (std::none_of(patch_faces[p].begin(), patch_faces[p].end(), [&](uint32_t f) {
+          const Tri& t = mesh.face(f);
+          return inside(t[0]) || inside(t[1]) || inside(t[2]);
+        })) {  // no interior vertex to be the centre
       refine_patch(p);
       continue;
     }
-    cut.forced.push_back(centre);
-    // The centre's neighbours in CCW order: path k must leave it between path k - 1 and path 0
-    // (CCW), with room for the paths still to come, so the paths reach their targets in the
-    // targets' order and every sector stays reachable.
-    std::vector<uint32_t> ring;
-    mesh.for_each_outgoing(centre, [&](uint32_t h) { ring.push_back(mesh.to(h)); });
-    const uint32_t nr = uint32_t(ring.size());
-    if (nr < 2 * targets.size()) {  // too few neighbours: split the edges opposite it
-      mesh.for_each_outgoing(centre,
-                             [&](uint32_t h) { refine.push_back(mesh.edge(TriMesh::next(h))); });
-      continue;
+    uint32_t& centre = centres[p];
+    switch (wedge_paths(mesh, labels, p, meta, centre, targets, patch_faces[p], inside, scratch,
+                        paths, refine)) {
+      case WedgeResult::cut:
+        cut.forced.push_back(centre);
+        break;
+      case WedgeResult::refine_listed:
+        break;
+      case WedgeResult::refine_patch:
+        refine_patch(p);
+        break;
     }
-    std::vector<uint32_t> ring_index(nv, kInvalid);
-    for (uint32_t i = 0; i < nr; ++i) ring_index[ring[i]] = i;
-
-    // The paths in the targets' CCW order, starting from each target in turn until they all fit
-    // (the first ones can crowd the last: then another start is tried).
-    const uint32_t m = uint32_t(targets.size());
-    bool done = false;
-    for (uint32_t rot = 0; rot < m && !done; ++rot) {
-      std::vector<uint32_t> marked, edges;
-      uint32_t first0 = kInvalid, last = kInvalid;
-      bool fits = true;
-      for (uint32_t k = 0; k < m && fits; ++k) {
-        const uint32_t target = targets[(rot + k) % m], left = m - 1 - k;
-        // Ring position i is on the open CCW arc from path k - 1 to path 0 (the whole ring
-        // after the first path), `left` positions short of path 0.
-        auto may_leave_by = [&](uint32_t i) {
-          if (k == 0) return true;
-          const uint32_t arc = first0 == last ? nr : (first0 + nr - last) % nr;
-          const uint32_t from_last = (i + nr - last) % nr, to_first = (first0 + nr - i) % nr;
-          return from_last >= 1 && to_first >= 1 + left && from_last + to_first == arc;
-        };
-        const ShortestPaths sp = vertex_dijkstra(
-            mesh, {centre},
-            [&](uint32_t v, uint32_t e) {
-              // The centre's neighbours are entered from the centre only: a path that walked
-              // through one would close the wedge a later path needs.
-              const uint32_t h = mesh.edge_halfedge(e);
-              const uint32_t u = mesh.from(h) == v ? mesh.to(h) : mesh.from(h);
-              if (ring_index[v] != kInvalid && (u != centre || !may_leave_by(ring_index[v])))
-                return false;
-              return v == target || (interior(v) && patch_of[v] == p && !used[v]);
-            },
-            [&](uint32_t v) { return v == target; });
-        const std::vector<uint32_t> path = sp.path_to(target);
-        if (path.size() < 2) {
-          fits = false;
-          break;
-        }
-        for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-          edges.push_back(edge_between(path[i], path[i + 1]));
-          if (i > 0) used[path[i]] = 1, marked.push_back(path[i]);
-        }
-        last = ring_index[path[1]];
-        if (k == 0) first0 = last;
-      }
-      if (fits) {
-        for (const uint32_t e : edges) cut_edge[e] = 1;
-        done = true;
-      } else {
-        for (const uint32_t v : marked) used[v] = 0;
-      }
-    }
-    if (!done) refine_patch(p);  // too thin for its paths
-    used[centre] = 1;
   }
   if (!refine.empty()) return std::nullopt;
+  // Split the crossed edges (each is crossed once), then mark the paths' edges.
+  std::vector<uint32_t> split;
+  std::vector<double> fractions;
+  for (const Path& path : paths)
+    for (const Node& n : path)
+      if (n.edge != kInvalid) split.push_back(n.edge), fractions.push_back(n.fraction);
+  cut.labels = labels;
+  cut.feature = feature;
+  cut.refined = split_edges(refined, split, &cut.labels, &cut.feature, &fractions);
+  const TriMesh& out = cut.refined.mesh;
+  std::vector<char> cut_edge(out.num_edges(), 0);
+  uint32_t next_new = nv;
+  for (const Path& path : paths) {
+    uint32_t prev = kInvalid;
+    for (const Node& n : path) {
+      const uint32_t v = n.edge != kInvalid ? next_new++ : n.vertex;
+      if (prev != kInvalid) {
+        uint32_t e = kInvalid;
+        out.for_each_outgoing(prev, [&](uint32_t h) {
+          if (out.to(h) == v) e = out.edge(h);
+        });
+        if (e == kInvalid)
+          throw Error(ErrorKind::internal, "E403",
+                      fmt::format("a cut path has no edge from vertex {} to {}", prev, v));
+        cut_edge[e] = 1;
+      }
+      prev = v;
+    }
+  }
   // The sectors: faces of one patch connected without crossing a cut.
   std::vector<uint32_t> region;
   cut.num_patches = face_regions(
-      mesh,
+      out,
       [&](uint32_t h) {
-        return !cut_edge[mesh.edge(h)] &&
-               labels[TriMesh::face_of(h)] == labels[TriMesh::face_of(mesh.twin(h))];
+        return !cut_edge[out.edge(h)] &&
+               cut.labels[TriMesh::face_of(h)] == cut.labels[TriMesh::face_of(out.twin(h))];
       },
       region);
   cut.labels = FaceData<uint32_t>(region);
@@ -268,9 +538,11 @@ void split_patches_into_quads(SegmentResult& seg, QuadSplitReport& report) {
   for (uint32_t level = 0;; ++level) {
     std::vector<uint32_t> refine;
     report.dropped_inserted = 0;
-    std::optional<Cut> cut = cut_patches(seg.refined.mesh, seg.labels, seg.meta, centres, refine,
-                                         report.dropped_inserted);
+    std::optional<Cut> cut = cut_patches(seg.refined, seg.labels, seg.feature, seg.meta, centres,
+                                         refine, report.dropped_inserted);
     if (cut) {
+      seg.refined = std::move(cut->refined);
+      seg.feature = std::move(cut->feature);
       seg.labels = std::move(cut->labels);
       seg.num_patches = cut->num_patches;
       seg.dividing_splits += split_dividing_edges(seg.refined, seg.labels, seg.feature);
@@ -287,7 +559,7 @@ void split_patches_into_quads(SegmentResult& seg, QuadSplitReport& report) {
       report.patches_after = seg.num_patches;
       return;
     }
-    if (level == 16 || seg.refined.mesh.num_faces() > 2000000)
+    if (level == 12 || seg.refined.mesh.num_faces() > 1000000)
       throw Error(ErrorKind::layout, "E403",
                   fmt::format("the patches could not be cut into four-sided ones even after {} "
                               "refinements; use more --patches",

@@ -10,16 +10,23 @@
 // Meta-vertices inserted only to give a patch four corners (valence 2 inside the surface) are
 // dropped first where both their patches keep three junctions: after the split they would be
 // corners on both sides, a vertex with two quads. Where a meta-edge has no vertex inside, or a
-// patch no interior vertex to be its centre, the surface is refined (every edge split at its
-// midpoint, with provenance); where a centre has too few neighbours for its paths, the edges
-// opposite it are split; then the cut is tried again.
+// patch no interior vertex to be its centre, the surface is refined (edges split at their
+// midpoints, with provenance) and the cut is tried again.
 //
-// Not yet always successful, as the paper's repair would be: the paths are found one after the
-// other (each leaving the centre between the previous one and the first, in the targets' order,
-// from each start in turn), and on some patches they still block each other however fine the
-// surface. Forced on at 1,500 quads it succeeds on sphere, cactus, cow, fandisk and
-// mesh_with_border and fails (E403) on bunny00, eight, nefertiti, rotor and a synthetic torus
-// with 8 patches. No corpus mesh needs it: the cheaper repairs always succeed there.
+// The paths come from a convex map of each patch (Floater's mean value map, the boundary on the
+// unit circle with the side midpoints evenly spaced): seen from the centre (the interior vertex
+// nearest the middle of the map) the rays to the midpoints are straight, leave in the sides'
+// order and never meet. A patch is cut along mesh edges inside each ray's cell (the vertices
+// nearer to it than to any other ray) when that fits, else along the rays themselves, splitting
+// every edge a ray crosses. Where two rays still pass through one triangle, the centre's angle
+// between them is bisected (the edge opposite it split) or the patch refined, and it is tried
+// again.
+//
+// Not yet always successful, as the paper's repair would be: forced on at 1,500 quads it
+// succeeds on sphere, fandisk, cactus, nefertiti, mesh_with_border, bunny00 (70 s) and cow
+// (140 s: many refinements) and fails (E403, after 12 refinements or at a million faces) on
+// eight and rotor, where rays keep sharing triangles near the centre: midpoint refinement is
+// self-similar there. No corpus mesh needs it: the cheaper repairs always succeed there.
 #pragma once
 
 #include <cstdint>
@@ -36,7 +43,7 @@ struct QuadSplitReport {
 
 // Rewrites `seg` (refined mesh, features, labels, meta-mesh with geodesic lengths) so that every
 // patch is a disk with exactly four meta-vertices.
-// \throw Error(layout, E403) if the cuts do not fit after eight refinements.
+// \throw Error(layout, E403) if the cuts do not fit after 12 refinements or a million faces.
 void split_patches_into_quads(SegmentResult& seg, QuadSplitReport& report);
 
 }  // namespace isoquad

@@ -224,3 +224,36 @@ TEST(Refine, SplitEdgesKeepsSurfaceAndProvenance) {
     EXPECT_LT(norm(p - m.position(v)), 1e-15);
   }
 }
+
+// Splits at given fractions (the quad split's cuts along straight rays): each new vertex is at
+// its fraction of the edge from the start of the edge's halfedge, its provenance agrees with its
+// position through every face around it, and two split points on one triangle are joined.
+TEST(Refine, SplitEdgesAtFractions) {
+  const PreparedComponent c = prepared(test::icosphere(2));
+  RefinedMesh r = identity_refinement(c.mesh);
+  const uint32_t f = 10;
+  const std::vector<uint32_t> edges = {c.mesh.edge(3 * f), c.mesh.edge(3 * f + 1)};
+  const std::vector<double> fractions = {0.2, 0.9};
+  r = split_edges(r, edges, nullptr, nullptr, &fractions);
+  const TriMesh& m = r.mesh;
+  const uint32_t nv = c.mesh.num_vertices();
+  ASSERT_EQ(m.num_vertices(), nv + 2);
+  for (uint32_t i = 0; i < 2; ++i) {
+    const uint32_t h = c.mesh.edge_halfedge(edges[i]);
+    const Vec3 want = (1 - fractions[i]) * c.mesh.position(c.mesh.from(h)) +
+                      fractions[i] * c.mesh.position(c.mesh.to(h));
+    EXPECT_LT(norm(m.position(nv + i) - want), 1e-15);
+  }
+  for (uint32_t k = 0; k < m.num_faces(); ++k)
+    for (uint32_t i = 0; i < 3; ++i) {
+      const Tri& t = c.mesh.face(r.base_face[k]);
+      const auto& b = r.corner_bary[k][i];
+      const Vec3 p = b[0] * c.mesh.position(t[0]) + b[1] * c.mesh.position(t[1]) +
+                     b[2] * c.mesh.position(t[2]);
+      EXPECT_LT(norm(p - m.position(m.face(k)[i])), 1e-14) << "face " << k << " corner " << i;
+    }
+  bool joined = false;
+  m.for_each_outgoing(nv, [&](uint32_t h) { joined = joined || m.to(h) == nv + 1; });
+  EXPECT_TRUE(joined);
+  EXPECT_EQ(m.euler_characteristic(), 2);
+}
