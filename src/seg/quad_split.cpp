@@ -271,12 +271,13 @@ WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, u
     }
   }
   // Otherwise cut along the rays themselves. Each ray, from the centre to its midpoint, is a
-  // straight segment of the map (the map is
-  // convex, so it stays inside and meets the loop only at its end). It is traced through the
-  // triangles: where it crosses an edge, the edge is to be split there; where it passes within
-  // kSnap of an edge's interior end, it goes through that vertex instead (no slivers) and goes
-  // on from there. Two rays never cross, but on a coarse mesh two may pass through one triangle
-  // or vertex: then the faces there are refined and the patch is traced again.
+  // straight segment of the map (the map is convex, so it stays inside and meets the loop only
+  // at its end). It is traced through the triangles: where it crosses an edge, the edge is to be
+  // split there; where it passes within kSnap of an edge's interior end, it goes through that
+  // vertex instead (no slivers) and goes on from there. Two rays never cross, but on a coarse
+  // mesh two may pass through one triangle: at the centre its angle there is bisected, elsewhere
+  // the patch is refined, and the patch is traced again. Numerical failures (no fan triangle, a
+  // step leaving the patch, too many steps) refine the patch too.
   constexpr double kSnap = 0.15;
   auto P = [&](uint32_t v) { return at[local[v]]; };
   auto orient = [](const std::array<double, 2>& a, const std::array<double, 2>& b,
@@ -285,13 +286,15 @@ WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, u
   };
   auto movable = [&](uint32_t v) { return v != centre && local[v] >= nb && !vertex_ray[v]; };
   std::vector<uint32_t> touched_faces, touched_vertices;
-  // A conflict refines where it is and abandons the ray; the other rays are still traced, so
-  // that one refinement settles all of a patch's conflicts.
+  // A failed ray is abandoned and the others are still traced, so that one refinement settles
+  // all of a patch's conflicts: `fail(e)` asks for edge e to be split, `fail()` for the whole
+  // patch to be refined.
   bool conflicts = false, whole_patch = false;
-  auto fail = [&](std::initializer_list<uint32_t> faces_here, uint32_t edge = kInvalid) {
-    for (const uint32_t f : faces_here)
-      for (uint32_t i = 0; i < 3; ++i) refine.push_back(mesh.edge(3 * f + i));
-    if (edge != kInvalid) refine.push_back(edge);
+  auto fail = [&](uint32_t edge = kInvalid) {
+    if (edge != kInvalid)
+      refine.push_back(edge);
+    else
+      whole_patch = true;
     conflicts = true;
     return false;
   };
@@ -335,11 +338,11 @@ WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, u
       return h != kInvalid && face_ray[TriMesh::face_of(h)] == kInvalid;
     };
     while (u != target) {
-      if (++steps > max_steps) return fail({});
+      if (++steps > max_steps) return fail();
       // At vertex u: the fan triangle (u, a, b) that the direction to the target enters.
       const std::array<double, 2> S = P(u);
       const uint32_t h_out = fan_halfedge(u);
-      if (h_out == kInvalid) return fail({});
+      if (h_out == kInvalid) return fail();
       const uint32_t f0 = TriMesh::face_of(h_out);
       const uint32_t a = mesh.to(h_out), b = mesh.to(TriMesh::next(h_out));
       if (a == target || b == target) {  // the target is a neighbour of u
@@ -348,12 +351,12 @@ WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, u
       }
       // Two rays leaving u by one triangle: split the edge opposite u, which bisects the angle
       // (splitting all three would leave u's angle whole).
-      if (!take_face(f0)) return fail({}, mesh.edge(TriMesh::next(h_out)));
+      if (!take_face(f0)) return fail(mesh.edge(TriMesh::next(h_out)));
       // Walk across triangles: R right of the ray, L left, the ray crossing R -> L.
       uint32_t x = TriMesh::next(h_out);  // halfedge a -> b: R = a, L = b
       bool restarted = false;
       while (!restarted) {
-        if (++steps > max_steps) return fail({});
+        if (++steps > max_steps) return fail();
         const uint32_t R = mesh.from(x), L = mesh.to(x);
         const double oR = orient(S, T, P(R)), oL = orient(S, T, P(L));
         const double s = oR / (oR - oL);  // along R -> L
@@ -366,12 +369,9 @@ WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, u
           continue;
         }
         const uint32_t y = mesh.twin(x);
-        if (y == kInvalid || labels[TriMesh::face_of(y)] != patch) return fail({});
+        if (y == kInvalid || labels[TriMesh::face_of(y)] != patch) return fail();
         const uint32_t f = TriMesh::face_of(y);
-        if (!take_face(f)) {  // two rays through one triangle away from the centre
-          whole_patch = true;
-          return fail({});
-        }
+        if (!take_face(f)) return fail();  // two rays through one triangle away from the centre
         add_split(x, std::clamp(s, 1e-6, 1 - 1e-6));
         const uint32_t w = mesh.to(TriMesh::next(y));  // y = L -> R, then R -> w, w -> L
         if (w == target) {
