@@ -43,38 +43,26 @@ std::vector<SideRow> side_equations(const MetaMesh& meta,
   return rows;
 }
 
-namespace {
-MilpProblem homogeneous(uint32_t n, const std::vector<SideRow>& rows) {
+Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
+  // The maximal support in one LP: lengths x >= 0 satisfying the side equations and an
+  // indicator 0 <= t_e <= min(x_e, 1), maximizing the sum of t. The equations are homogeneous,
+  // so any solution scales: the optimum is the size of the largest support, with t_e = 1 on it
+  // (a sum of rounds each maximizing the edges not yet positive needed 2-4 LPs).
   MilpProblem lp;
-  for (uint32_t e = 0; e < n; ++e) lp.add_column(0, 0, 1, false);
+  for (uint32_t e = 0; e < n; ++e) lp.add_column(0, 0, MilpProblem::kInf, false);  // x
+  for (uint32_t e = 0; e < n; ++e) lp.add_column(-1, 0, 1, false);                 // t
   for (const SideRow& r : rows) {
     MilpProblem::Row row;
     for (const auto& [e, sign] : r) row.columns.push_back(e), row.values.push_back(sign);
     row.lo = row.hi = 0;
     lp.add_row(std::move(row));
   }
-  return lp;
-}
-}  // namespace
-
-Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
+  for (uint32_t e = 0; e < n; ++e) lp.add_row({{e, n + e}, {-1.0, 1.0}, -MilpProblem::kInf, 0});
   Feasibility f;
-  // Grow the support: maximize the sum of the edges not yet known to be positive. Feasible
-  // points combine, so this reaches the maximal support in a few LPs.
-  std::vector<char> positive(n, 0);
-  for (int round = 0; round < 64; ++round) {
-    MilpProblem lp = homogeneous(n, rows);
-    for (uint32_t e = 0; e < n; ++e) lp.objective[e] = positive[e] ? 0 : -1;
-    const MilpResult r = solve_lp(lp);
-    f.seconds += r.seconds;
-    if (!r.found()) break;
-    bool grew = false;
-    for (uint32_t e = 0; e < n; ++e)
-      if (!positive[e] && r.x[e] > 1e-9) positive[e] = 1, grew = true;
-    if (!grew) break;
-  }
+  const MilpResult r = solve_lp(lp);
+  f.seconds = r.seconds;
   for (uint32_t e = 0; e < n; ++e)
-    if (!positive[e]) f.forced_zero.push_back(e);
+    if (!r.found() || r.x[n + e] < 0.5) f.forced_zero.push_back(e);
   f.feasible = f.forced_zero.empty();
   return f;
 }
