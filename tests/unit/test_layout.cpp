@@ -229,11 +229,12 @@ TEST(Flow, RejectsRotationalLayouts) {
 // The paper's last-resort repair (§5): after the split every patch is a disk with exactly four
 // meta-vertices (a Catmull-Clark step of the meta-mesh: one patch per side of each old one), the
 // meta-mesh keeps the surface's Euler characteristic, and every layout is feasible, here on a
-// sphere and a plate with a hole (mesh boundary). Not yet on every surface: on a torus with 8
-// patches the greedy disjoint paths block each other (see seg/quad_split.hpp).
+// sphere, a plate with a hole (mesh boundary) and a torus with 8 patches (genus 1; the greedy
+// paths before the convex-map rays blocked each other there).
 TEST(QuadSplit, EveryPatchFourSidedAndTheLayoutFeasible) {
   for (const auto& [mesh, k] :
-       {std::pair{test::icosphere(3), 8u}, std::pair{test::plate_with_hole(16), 4u}}) {
+       {std::pair{test::icosphere(3), 8u}, std::pair{test::plate_with_hole(16), 4u},
+        std::pair{test::torus(40, 16), 8u}}) {
     Built b = segmented(mesh, k);
     SCOPED_TRACE(mesh.num_faces());
     uint32_t sides = 0;
