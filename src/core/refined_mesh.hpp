@@ -29,14 +29,30 @@ struct RefinedMesh {
 
 RefinedMesh identity_refinement(const TriMesh& base);
 
-// Splits each listed edge at its midpoint, or where `fractions` says (fractions[i] for
-// edges[i], from the start of the edge's halfedge `edge_halfedge(e)`); every triangle with
-// split edges is divided (into 2, 3 or 4). New vertices are appended in the order of `edges`
-// (first listing counts); old ids stay. Face data in `face_labels` is inherited by the pieces;
-// edge flags in `edge_flags` are inherited by the two halves (new edges get 0). Two split points
-// on edges of one triangle are always joined by an edge of the result.
+// Splits each listed edge at its midpoint; every triangle with split edges is divided (into 2,
+// 3 or 4). New vertices are appended; old ids stay. Face data in `face_labels` is inherited by
+// the pieces; edge flags in `edge_flags` are inherited by the two halves (new edges get 0).
 RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edges,
-                        FaceData<uint32_t>* face_labels, EdgeData<char>* edge_flags,
-                        const std::vector<double>* fractions = nullptr);
+                        FaceData<uint32_t>* face_labels, EdgeData<char>* edge_flags);
+
+// A point inside an edge, at `fraction` from the start of the edge's halfedge.
+struct EdgePoint {
+  uint32_t edge;
+  double fraction;
+};
+
+// A straight cut across one face between two points of its boundary: corners (vertex ids of
+// `in`) or edge points (id num_vertices() + their index in `points`).
+struct Chord {
+  uint32_t face, a, b;
+};
+
+// Inserts the edge points (any number per edge) and cuts every face along its chords, which
+// must not cross; each face's pieces (convex) are triangulated by ear clipping. New vertices are
+// the points, appended in their order; every chord and every piece of a split edge is an edge
+// of the result. Labels and edge flags are inherited as by split_edges.
+RefinedMesh cut_along_chords(const RefinedMesh& in, const std::vector<EdgePoint>& points,
+                             const std::vector<Chord>& chords, FaceData<uint32_t>* face_labels,
+                             EdgeData<char>* edge_flags);
 
 }  // namespace isoquad

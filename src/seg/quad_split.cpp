@@ -104,41 +104,40 @@ std::vector<Side> sides_of(const TriMesh& mesh, const MetaMesh& meta, const std:
   return sides;
 }
 
-// What became of a patch: cut, or not yet (the edges to split are listed), or the whole patch
-// is to be refined.
-enum class WedgeResult { cut, refine_listed, refine_patch };
+// Whether a patch was cut or is to be refined first.
+enum class WedgeResult { cut, refine_patch };
 
-// A point of a cut path: a mesh vertex, or a point on an edge (at `fraction` from the start of
-// the edge's halfedge) where the edge is to be split.
-struct Node {
-  uint32_t vertex = kInvalid;
-  uint32_t edge = kInvalid;
-  double fraction = 0;
+// A cut path: vertex ids, where ids from the mesh's vertex count on are new vertices (the edge
+// points of the cut, in their order).
+using Path = std::vector<uint32_t>;
+
+// The cut being built: new vertices on edges and straight cuts across faces.
+struct Cuts {
+  std::vector<EdgePoint> points;
+  std::vector<Chord> chords;
 };
-using Path = std::vector<Node>;
 
-// Per-element scratch, kInvalid / 0 between patches.
+// Per-element scratch, kInvalid between patches.
 struct Scratch {
   std::vector<uint32_t> local;     // vertex -> index in the patch's map
   std::vector<uint32_t> face_ray;  // face -> the ray through it
-  std::vector<char> vertex_ray;    // vertex -> on a ray
 };
 
 // The cut paths of one patch, from its centre to its side midpoints (`targets`, CCW), drawn in
 // a convex map of the patch (see quad_split.hpp): along mesh edges inside the rays' cells when
-// that fits, else along the straight rays (crossed edges listed as split points). Appends the
-// paths to `paths` on success; otherwise lists the edges to split in `refine` (or asks for the
-// whole patch). Chooses the centre when `centre` is kInvalid. `inside(v)`: v is an interior
-// vertex of the patch; `faces`: the patch's faces; `scratch` is clean on entry and on return.
+// that fits, else along the straight rays (their edge points and chords added to `cuts`).
+// Appends the paths to `paths`, or asks for the patch to be refined (a pinched boundary, a
+// neighbour outside the patch, numerical trouble). Chooses the centre when `centre` is
+// kInvalid. `inside(v)`: v is an interior vertex of the patch; `faces`: the patch's faces;
+// `scratch` is clean on entry and on return.
 WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t patch,
                         const MetaMesh& meta, uint32_t& centre,
                         const std::vector<uint32_t>& targets, const std::vector<uint32_t>& faces,
-                        const std::function<bool(uint32_t)>& inside, Scratch& scratch,
-                        std::vector<Path>& paths, std::vector<uint32_t>& refine) {
+                        const std::function<bool(uint32_t)>& inside, Scratch& scratch, Cuts& cuts,
+                        std::vector<Path>& paths) {
   const MetaFace& face = meta.faces[patch];
   std::vector<uint32_t>& local = scratch.local;
   std::vector<uint32_t>& face_ray = scratch.face_ray;
-  std::vector<char>& vertex_ray = scratch.vertex_ray;
   // The boundary loop in CCW order, then the interior vertices.
   std::vector<uint32_t> loop, verts;
   for (const BoundaryItem& it : face.cycle) {
@@ -181,9 +180,7 @@ WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, u
   }
   // Floater's mean value map: x_i = sum_j w_ij x_j / sum_j w_ij with the positive mean value
   // weights w_ij = (tan(a/2) + tan(b/2)) / |x_j - x_i| (a, b: the angles at i next to edge ij),
-  // an embedding like Tutte's uniform map but close to the surface's own shape: under uniform
-  // weights the splits that bisect the centre's gaps pull the centre towards the boundary and the
-  // gaps never close.
+  // an embedding like Tutte's uniform map but closer to the surface's own shape.
   const Eigen::Index n = Eigen::Index(verts.size());
   std::vector<Eigen::Triplet<double>> entries;
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
@@ -260,9 +257,7 @@ WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, u
           [&](uint32_t v) { return v == target; });
       const std::vector<uint32_t> path = sp.path_to(target);
       if (path.size() < 2) break;
-      Path nodes;
-      for (const uint32_t v : path) nodes.push_back({v, kInvalid, 0.0});
-      edge_paths.push_back(std::move(nodes));
+      edge_paths.push_back(path);
     }
     if (edge_paths.size() == m) {
       for (Path& path : edge_paths) paths.push_back(std::move(path));
@@ -272,125 +267,90 @@ WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, u
   }
   // Otherwise cut along the rays themselves. Each ray, from the centre to its midpoint, is a
   // straight segment of the map (the map is convex, so it stays inside and meets the loop only
-  // at its end). It is traced through the triangles: where it crosses an edge, the edge is to be
-  // split there; where it passes within kSnap of an edge's interior end, it goes through that
-  // vertex instead (no slivers) and goes on from there. Two rays never cross, but on a coarse
-  // mesh two may pass through one triangle: at the centre its angle there is bisected, elsewhere
-  // the patch is refined, and the patch is traced again. Numerical failures (no fan triangle, a
-  // step leaving the patch, too many steps) refine the patch too.
-  constexpr double kSnap = 0.15;
+  // at its end), and in each triangle the map is affine, so the ray is straight on the surface
+  // too. It is traced through the triangles: every edge it crosses gets a new vertex there and
+  // every triangle it crosses a chord; rays never cross each other, so the cut always fits (a
+  // triangle or edge crossed by several rays is cut several times). Numerical trouble (no fan
+  // triangle, a step out of the patch, a triangle crossed twice by one ray) refines the patch.
   auto P = [&](uint32_t v) { return at[local[v]]; };
   auto orient = [](const std::array<double, 2>& a, const std::array<double, 2>& b,
                    const std::array<double, 2>& q) {
     return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]);
   };
-  auto movable = [&](uint32_t v) { return v != centre && local[v] >= nb && !vertex_ray[v]; };
-  std::vector<uint32_t> touched_faces, touched_vertices;
-  // A failed ray is abandoned and the others are still traced, so that one refinement settles
-  // all of a patch's conflicts: `fail(e)` asks for edge e to be split, `fail()` for the whole
-  // patch to be refined.
-  bool conflicts = false, whole_patch = false;
-  auto fail = [&](uint32_t edge = kInvalid) {
-    if (edge != kInvalid)
-      refine.push_back(edge);
-    else
-      whole_patch = true;
-    conflicts = true;
-    return false;
-  };
+  const uint32_t nv = mesh.num_vertices();
+  const std::size_t points_before = cuts.points.size(), chords_before = cuts.chords.size();
+  std::vector<uint32_t> touched_faces;
+  bool failed = false;
   std::vector<Path> found;
   const uint32_t max_steps = 4 * uint32_t(faces.size()) + 16;
-  // One ray, from the centre to targets[k]; false on a conflict.
   auto trace = [&](uint32_t k) {
     const uint32_t target = targets[k];
-    const std::array<double, 2> T = P(target);
-    Path path{{centre, kInvalid, 0.0}};
-    uint32_t u = centre, steps = 0;
+    const std::array<double, 2> T = P(target), S = c;
+    Path path{centre};
+    auto fail = [&] {
+      failed = true;
+      return false;
+    };
     auto take_face = [&](uint32_t f) {
-      if (face_ray[f] != kInvalid) return false;
+      if (face_ray[f] == k) return false;
       face_ray[f] = k;
       touched_faces.push_back(f);
       return true;
     };
-    auto take_vertex = [&](uint32_t v) {
-      vertex_ray[v] = 1;
-      touched_vertices.push_back(v);
-      path.push_back({v, kInvalid, 0.0});
-    };
-    auto add_split = [&](uint32_t h, double s) {  // on halfedge h at fraction s from its start
+    // The new vertex where the ray crosses halfedge h at fraction s from its start.
+    auto cross_at = [&](uint32_t h, double s) {
       const uint32_t e = mesh.edge(h);
-      path.push_back({kInvalid, e, mesh.from(mesh.edge_halfedge(e)) == mesh.from(h) ? s : 1 - s});
+      const double t =
+          std::clamp(mesh.from(mesh.edge_halfedge(e)) == mesh.from(h) ? s : 1 - s, 1e-6, 1 - 1e-6);
+      cuts.points.push_back({e, t});
+      return nv + uint32_t(cuts.points.size() - 1);
     };
-    // The halfedge u -> a of the triangle (u, a, b) by which the direction to the target leaves u.
-    auto fan_halfedge = [&](uint32_t u) {
-      const std::array<double, 2> S = P(u);
-      uint32_t h_out = kInvalid;
-      mesh.for_each_outgoing(u, [&](uint32_t h) {
-        const uint32_t a = mesh.to(h), b = mesh.to(TriMesh::next(h));
-        if (h_out == kInvalid && orient(S, P(a), T) >= 0 && orient(S, P(b), T) < 0) h_out = h;
-      });
-      return h_out;
-    };
-    // A vertex the ray may go through: not on a ray yet and leaving it by a free triangle.
-    auto may_snap = [&](uint32_t v) {
-      if (!movable(v)) return false;
-      const uint32_t h = fan_halfedge(v);
-      return h != kInvalid && face_ray[TriMesh::face_of(h)] == kInvalid;
-    };
-    while (u != target) {
+    // The triangle (centre, a, b) by which the ray leaves the centre.
+    uint32_t h_out = kInvalid;
+    mesh.for_each_outgoing(centre, [&](uint32_t h) {
+      const uint32_t a = mesh.to(h), b = mesh.to(TriMesh::next(h));
+      if (h_out == kInvalid && orient(S, P(a), T) >= 0 && orient(S, P(b), T) < 0) h_out = h;
+    });
+    if (h_out == kInvalid) return fail();
+    if (mesh.to(h_out) == target) {  // the target is a neighbour of the centre
+      path.push_back(target);
+      found.push_back(std::move(path));
+      return true;
+    }
+    uint32_t face = TriMesh::face_of(h_out), from = centre, steps = 0;
+    take_face(face);
+    // Walk across triangles: the ray leaves `face` through halfedge x, from R (right of the
+    // ray) to L (left).
+    uint32_t x = TriMesh::next(h_out);
+    while (true) {
       if (++steps > max_steps) return fail();
-      // At vertex u: the fan triangle (u, a, b) that the direction to the target enters.
-      const std::array<double, 2> S = P(u);
-      const uint32_t h_out = fan_halfedge(u);
-      if (h_out == kInvalid) return fail();
-      const uint32_t f0 = TriMesh::face_of(h_out);
-      const uint32_t a = mesh.to(h_out), b = mesh.to(TriMesh::next(h_out));
-      if (a == target || b == target) {  // the target is a neighbour of u
-        path.push_back({target, kInvalid, 0.0});
+      const uint32_t R = mesh.from(x), L = mesh.to(x);
+      const double oR = orient(S, T, P(R)), oL = orient(S, T, P(L));
+      const uint32_t q = cross_at(x, oR / (oR - oL));
+      cuts.chords.push_back({face, from, q});
+      path.push_back(q);
+      const uint32_t y = mesh.twin(x);
+      if (y == kInvalid || labels[TriMesh::face_of(y)] != patch) return fail();
+      face = TriMesh::face_of(y), from = q;
+      if (!take_face(face)) return fail();
+      const uint32_t w = mesh.to(TriMesh::next(y));  // y = L -> R, then R -> w, w -> L
+      if (w == target) {
+        cuts.chords.push_back({face, q, target});
+        path.push_back(target);
         break;
       }
-      // Two rays leaving u by one triangle: split the edge opposite u, which bisects the angle
-      // (splitting all three would leave u's angle whole).
-      if (!take_face(f0)) return fail(mesh.edge(TriMesh::next(h_out)));
-      // Walk across triangles: R right of the ray, L left, the ray crossing R -> L.
-      uint32_t x = TriMesh::next(h_out);  // halfedge a -> b: R = a, L = b
-      bool restarted = false;
-      while (!restarted) {
-        if (++steps > max_steps) return fail();
-        const uint32_t R = mesh.from(x), L = mesh.to(x);
-        const double oR = orient(S, T, P(R)), oL = orient(S, T, P(L));
-        const double s = oR / (oR - oL);  // along R -> L
-        if (s < kSnap && may_snap(R)) {
-          take_vertex(R), u = R, restarted = true;
-          continue;
-        }
-        if (s > 1 - kSnap && may_snap(L)) {
-          take_vertex(L), u = L, restarted = true;
-          continue;
-        }
-        const uint32_t y = mesh.twin(x);
-        if (y == kInvalid || labels[TriMesh::face_of(y)] != patch) return fail();
-        const uint32_t f = TriMesh::face_of(y);
-        if (!take_face(f)) return fail();  // two rays through one triangle away from the centre
-        add_split(x, std::clamp(s, 1e-6, 1 - 1e-6));
-        const uint32_t w = mesh.to(TriMesh::next(y));  // y = L -> R, then R -> w, w -> L
-        if (w == target) {
-          path.push_back({target, kInvalid, 0.0});
-          u = target;
-          break;
-        }
-        x = orient(S, T, P(w)) > 0 ? TriMesh::next(y) : TriMesh::next(TriMesh::next(y));
-      }
+      x = orient(S, T, P(w)) > 0 ? TriMesh::next(y) : TriMesh::next(TriMesh::next(y));
     }
     found.push_back(std::move(path));
     return true;
   };
-  for (uint32_t k = 0; k < m; ++k) trace(k);
+  for (uint32_t k = 0; k < m && !failed; ++k) trace(k);
   for (const uint32_t f : touched_faces) face_ray[f] = kInvalid;
-  for (const uint32_t v : touched_vertices) vertex_ray[v] = 0;
   clear();
-  if (whole_patch) return WedgeResult::refine_patch;
-  if (conflicts) return WedgeResult::refine_listed;
+  if (failed) {
+    cuts.points.resize(points_before), cuts.chords.resize(chords_before);
+    return WedgeResult::refine_patch;
+  }
   for (Path& path : found) paths.push_back(std::move(path));
   return WedgeResult::cut;
 }
@@ -415,10 +375,13 @@ std::optional<Cut> cut_patches(const RefinedMesh& refined, const FaceData<uint32
   std::vector<uint32_t> side_of;
   const std::vector<Side> sides = sides_of(mesh, meta, keep, side_of);
   // Where something does not fit, `refine` collects the edges to split before the next try.
-  auto edge_between = [&](uint32_t a, uint32_t b) {
-    uint32_t e = kInvalid;
+  auto edge_between = [&](uint32_t a, uint32_t b) {  // either way: on the mesh boundary
+    uint32_t e = kInvalid;                           // only one halfedge exists
     mesh.for_each_outgoing(a, [&](uint32_t h) {
       if (mesh.to(h) == b) e = mesh.edge(h);
+    });
+    mesh.for_each_outgoing(b, [&](uint32_t h) {
+      if (mesh.to(h) == a) e = mesh.edge(h);
     });
     return e;
   };
@@ -438,7 +401,7 @@ std::optional<Cut> cut_patches(const RefinedMesh& refined, const FaceData<uint32
   for (uint32_t f = 0; f < mesh.num_faces(); ++f)
     for (const uint32_t v : mesh.face(f)) patch_of[v] = labels[f];
   Scratch scratch{std::vector<uint32_t>(nv, kInvalid),
-                  std::vector<uint32_t>(mesh.num_faces(), kInvalid), std::vector<char>(nv, 0)};
+                  std::vector<uint32_t>(mesh.num_faces(), kInvalid)};
   auto interior = [&](uint32_t v) {
     return meta.vertex_meta_vertex[v] == kInvalid && meta.vertex_meta_edge[v] == kInvalid &&
            !mesh.is_boundary_vertex(v);
@@ -448,6 +411,7 @@ std::optional<Cut> cut_patches(const RefinedMesh& refined, const FaceData<uint32
     if (keep[v]) cut.forced.push_back(meta.vertices[v].vertex);
   for (const Side& s : sides) cut.forced.push_back(s.midpoint);
   std::vector<Path> paths;
+  Cuts cuts;
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     // The patch's sides in CCW order (consecutive items of one side counted once).
     std::vector<uint32_t> targets;
@@ -469,11 +433,9 @@ std::optional<Cut> cut_patches(const RefinedMesh& refined, const FaceData<uint32
     }
     uint32_t& centre = centres[p];
     switch (wedge_paths(mesh, labels, p, meta, centre, targets, patch_faces[p], inside, scratch,
-                        paths, refine)) {
+                        cuts, paths)) {
       case WedgeResult::cut:
         cut.forced.push_back(centre);
-        break;
-      case WedgeResult::refine_listed:
         break;
       case WedgeResult::refine_patch:
         refine_patch(p);
@@ -481,35 +443,24 @@ std::optional<Cut> cut_patches(const RefinedMesh& refined, const FaceData<uint32
     }
   }
   if (!refine.empty()) return std::nullopt;
-  // Split the crossed edges (each is crossed once), then mark the paths' edges.
-  std::vector<uint32_t> split;
-  std::vector<double> fractions;
-  for (const Path& path : paths)
-    for (const Node& n : path)
-      if (n.edge != kInvalid) split.push_back(n.edge), fractions.push_back(n.fraction);
+  // Cut the crossed triangles, then mark the paths' edges.
   cut.labels = labels;
   cut.feature = feature;
-  cut.refined = split_edges(refined, split, &cut.labels, &cut.feature, &fractions);
+  cut.refined = cut_along_chords(refined, cuts.points, cuts.chords, &cut.labels, &cut.feature);
   const TriMesh& out = cut.refined.mesh;
   std::vector<char> cut_edge(out.num_edges(), 0);
-  uint32_t next_new = nv;
-  for (const Path& path : paths) {
-    uint32_t prev = kInvalid;
-    for (const Node& n : path) {
-      const uint32_t v = n.edge != kInvalid ? next_new++ : n.vertex;
-      if (prev != kInvalid) {
-        uint32_t e = kInvalid;
-        out.for_each_outgoing(prev, [&](uint32_t h) {
-          if (out.to(h) == v) e = out.edge(h);
-        });
-        if (e == kInvalid)
-          throw Error(ErrorKind::internal, "E403",
-                      fmt::format("a cut path has no edge from vertex {} to {}", prev, v));
-        cut_edge[e] = 1;
-      }
-      prev = v;
+  for (const Path& path : paths)
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+      uint32_t e = kInvalid;
+      out.for_each_outgoing(path[i], [&](uint32_t h) {
+        if (out.to(h) == path[i + 1]) e = out.edge(h);
+      });
+      if (e == kInvalid)
+        throw Error(
+            ErrorKind::internal, "E403",
+            fmt::format("a cut path has no edge from vertex {} to {}", path[i], path[i + 1]));
+      cut_edge[e] = 1;
     }
-  }
   // The sectors: faces of one patch connected without crossing a cut.
   std::vector<uint32_t> region;
   cut.num_patches = face_regions(
@@ -569,6 +520,11 @@ void split_patches_into_quads(SegmentResult& seg, QuadSplitReport& report) {
     for (const MetaVertex& mv : seg.meta.vertices) forced.push_back(mv.vertex);
     std::sort(refine.begin(), refine.end());
     refine.erase(std::unique(refine.begin(), refine.end()), refine.end());
+    while (!refine.empty() && refine.back() == kInvalid) refine.pop_back();
+    if (refine.empty())
+      throw Error(
+          ErrorKind::internal, "E403",
+          "the patches could not be cut into four-sided ones and nothing is left to refine");
     seg.refined = split_edges(seg.refined, refine, &seg.labels, &seg.feature);
     seg.meta = build_meta_mesh(seg.refined.mesh, seg.labels, seg.num_patches, seg.feature,
                                fixed_meta_vertices(forced));

@@ -17,16 +17,15 @@
 // unit circle with the side midpoints evenly spaced): seen from the centre (the interior vertex
 // nearest the middle of the map) the rays to the midpoints are straight, leave in the sides'
 // order and never meet. A patch is cut along mesh edges inside each ray's cell (the vertices
-// nearer to it than to any other ray) when that fits, else along the rays themselves, splitting
-// every edge a ray crosses. Where two rays still pass through one triangle, the centre's angle
-// between them is bisected (the edge opposite it split) or the patch refined, and it is tried
-// again.
+// nearer to it than to any other ray) when that fits; else along the rays themselves: the map
+// is affine on each triangle, so a ray is straight on the surface too, and every edge it crosses
+// gets a vertex there and every triangle it crosses a chord (core/refined_mesh.hpp). Rays never
+// cross, so this always fits, on any surface and at any resolution; refinement is left for
+// degenerate cases (a side of one edge, a patch without interior vertex, numerical trouble).
 //
-// Not yet always successful, as the paper's repair would be: forced on at 1,500 quads it
-// succeeds on sphere, fandisk, cactus, nefertiti, mesh_with_border, bunny00 (70 s) and cow
-// (140 s: many refinements) and fails (E403, after 12 refinements or at a million faces) on
-// eight and rotor, where rays keep sharing triangles near the centre: midpoint refinement is
-// self-similar there. No corpus mesh needs it: the cheaper repairs always succeed there.
+// Forced on at 1,500 quads it succeeds on all 19 corpus meshes (0.8-7 s end to end, the largest
+// on bunny00), where the cheaper repairs are never needed. The result is valid but not pretty:
+// the centres become singularities of valence 3 to 11 (one per side of the old patch).
 #pragma once
 
 #include <cstdint>
@@ -37,13 +36,14 @@ namespace isoquad {
 
 struct QuadSplitReport {
   uint32_t patches_before = 0, patches_after = 0;
-  uint32_t refinements = 0;       // whole-surface midpoint splits needed to fit the cuts
+  uint32_t refinements = 0;       // midpoint refinements needed before the cut fitted
   uint32_t dropped_inserted = 0;  // valence-2 meta-vertices merged away first
 };
 
 // Rewrites `seg` (refined mesh, features, labels, meta-mesh with geodesic lengths) so that every
 // patch is a disk with exactly four meta-vertices.
-// \throw Error(layout, E403) if the cuts do not fit after 12 refinements or a million faces.
+// \throw Error(layout, E403) if the cuts do not fit after 12 refinements or a million faces
+// (not seen: only degenerate patches are refined).
 void split_patches_into_quads(SegmentResult& seg, QuadSplitReport& report);
 
 }  // namespace isoquad

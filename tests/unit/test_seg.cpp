@@ -225,35 +225,65 @@ TEST(Refine, SplitEdgesKeepsSurfaceAndProvenance) {
   }
 }
 
-// Splits at given fractions (the quad split's cuts along straight rays): each new vertex is at
-// its fraction of the edge from the start of the edge's halfedge, its provenance agrees with its
-// position through every face around it, and two split points on one triangle are joined.
-TEST(Refine, SplitEdgesAtFractions) {
+// Cuts along chords (the quad split's cuts along straight rays): two points on one edge and
+// one on the next, chords from the opposite corner and across the corner between them. Every
+// new vertex is where its fraction says, provenance is exact through every face, the chords and
+// the edge pieces are edges, the pieces are non-degenerate and keep the orientation, the area
+// and chi are kept, and a feature flag passes to all pieces of its edge.
+TEST(Refine, CutAlongChords) {
   const PreparedComponent c = prepared(test::icosphere(2));
-  RefinedMesh r = identity_refinement(c.mesh);
-  const uint32_t f = 10;
-  const std::vector<uint32_t> edges = {c.mesh.edge(3 * f), c.mesh.edge(3 * f + 1)};
-  const std::vector<double> fractions = {0.2, 0.9};
-  r = split_edges(r, edges, nullptr, nullptr, &fractions);
+  const TriMesh& base = c.mesh;
+  RefinedMesh r = identity_refinement(base);
+  const uint32_t f = 10, nv = base.num_vertices();
+  const Tri t = base.face(f);
+  const uint32_t e0 = base.edge(3 * f), e1 = base.edge(3 * f + 1);  // v0 -> v1, v1 -> v2
+  // Fractions are from the start of the edge's own halfedge.
+  auto from_start = [&](uint32_t e, uint32_t v, double s) {
+    return base.from(base.edge_halfedge(e)) == v ? s : 1 - s;
+  };
+  const std::vector<EdgePoint> points = {{e0, from_start(e0, t[0], 0.3)},
+                                         {e0, from_start(e0, t[0], 0.6)},
+                                         {e1, from_start(e1, t[1], 0.5)}};
+  const std::vector<Chord> chords = {{f, t[2], nv}, {f, nv + 1, nv + 2}};
+  FaceData<uint32_t> labels(base.num_faces());
+  for (uint32_t k = 0; k < base.num_faces(); ++k) labels[k] = k;
+  EdgeData<char> flags(base.num_edges(), 0);
+  flags[e0] = 1;
+  r = cut_along_chords(r, points, chords, &labels, &flags);
   const TriMesh& m = r.mesh;
-  const uint32_t nv = c.mesh.num_vertices();
-  ASSERT_EQ(m.num_vertices(), nv + 2);
-  for (uint32_t i = 0; i < 2; ++i) {
-    const uint32_t h = c.mesh.edge_halfedge(edges[i]);
-    const Vec3 want = (1 - fractions[i]) * c.mesh.position(c.mesh.from(h)) +
-                      fractions[i] * c.mesh.position(c.mesh.to(h));
-    EXPECT_LT(norm(m.position(nv + i) - want), 1e-15);
+  ASSERT_EQ(m.num_vertices(), nv + 3);
+  EXPECT_EQ(m.euler_characteristic(), 2);
+  for (uint32_t i = 0; i < 3; ++i) {
+    const uint32_t h = base.edge_halfedge(points[i].edge);
+    const double s = points[i].fraction;
+    EXPECT_LT(norm(m.position(nv + i) -
+                   ((1 - s) * base.position(base.from(h)) + s * base.position(base.to(h)))),
+              1e-15);
   }
-  for (uint32_t k = 0; k < m.num_faces(); ++k)
+  double area = 0, base_area = 0;
+  for (uint32_t k = 0; k < m.num_faces(); ++k) {
+    area += m.face_area(k);
+    EXPECT_GT(m.face_area(k), 1e-6 * base.face_area(r.base_face[k]));
+    EXPECT_GT(dot(m.face_normal(k), base.face_normal(r.base_face[k])), 0.999999);
+    EXPECT_EQ(labels[k], r.base_face[k]);
+    const Tri& bt = base.face(r.base_face[k]);
     for (uint32_t i = 0; i < 3; ++i) {
-      const Tri& t = c.mesh.face(r.base_face[k]);
       const auto& b = r.corner_bary[k][i];
-      const Vec3 p = b[0] * c.mesh.position(t[0]) + b[1] * c.mesh.position(t[1]) +
-                     b[2] * c.mesh.position(t[2]);
+      const Vec3 p =
+          b[0] * base.position(bt[0]) + b[1] * base.position(bt[1]) + b[2] * base.position(bt[2]);
       EXPECT_LT(norm(p - m.position(m.face(k)[i])), 1e-14) << "face " << k << " corner " << i;
     }
-  bool joined = false;
-  m.for_each_outgoing(nv, [&](uint32_t h) { joined = joined || m.to(h) == nv + 1; });
-  EXPECT_TRUE(joined);
-  EXPECT_EQ(m.euler_characteristic(), 2);
+  }
+  for (uint32_t k = 0; k < base.num_faces(); ++k) base_area += base.face_area(k);
+  EXPECT_NEAR(area, base_area, 1e-13);
+  auto joined = [&](uint32_t a, uint32_t b) {
+    bool yes = false;
+    m.for_each_outgoing(a, [&](uint32_t h) { yes = yes || m.to(h) == b; });
+    m.for_each_outgoing(b, [&](uint32_t h) { yes = yes || m.to(h) == a; });
+    return yes;
+  };
+  EXPECT_TRUE(joined(t[2], nv));
+  EXPECT_TRUE(joined(nv + 1, nv + 2));
+  EXPECT_TRUE(joined(t[0], nv) && joined(nv, nv + 1) && joined(nv + 1, t[1]));
+  EXPECT_EQ(std::count(flags.begin(), flags.end(), 1), 3);  // the three pieces of e0
 }
