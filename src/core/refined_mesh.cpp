@@ -27,6 +27,32 @@ namespace {
 std::array<double, 3> midpoint(const std::array<double, 3>& a, const std::array<double, 3>& b) {
   return {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
 }
+
+// The refined mesh from its pieces: `old_edge[f][i]`, the base edge that halfedge i of new face f
+// lies on (kInvalid inside a face), passes the edge flags on.
+RefinedMesh assemble(const RefinedMesh& in, std::vector<Vec3> positions, std::vector<Tri> faces,
+                     std::vector<uint32_t> base_face,
+                     std::vector<std::array<std::array<double, 3>, 3>> bary,
+                     std::vector<uint32_t> labels,
+                     const std::vector<std::array<uint32_t, 3>>& old_edge,
+                     FaceData<uint32_t>* face_labels, EdgeData<char>* edge_flags) {
+  RefinedMesh out;
+  out.base_vertices = in.base_vertices;
+  out.mesh = TriMesh(std::move(positions), std::move(faces));
+  out.base_face = FaceData<uint32_t>(std::move(base_face));
+  out.corner_bary = FaceData<std::array<std::array<double, 3>, 3>>(std::move(bary));
+  if (face_labels) *face_labels = FaceData<uint32_t>(std::move(labels));
+  if (edge_flags) {
+    EdgeData<char> flags(out.mesh.num_edges(), 0);
+    for (uint32_t nf = 0; nf < out.mesh.num_faces(); ++nf)
+      for (int i = 0; i < 3; ++i)
+        if (old_edge[nf][i] != kInvalid)
+          flags[out.mesh.edge(3 * nf + i)] = (*edge_flags)[old_edge[nf][i]];
+    *edge_flags = std::move(flags);
+  }
+  return out;
+}
+
 }  // namespace
 
 RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edges,
@@ -109,21 +135,8 @@ RefinedMesh split_edges(const RefinedMesh& in, const std::vector<uint32_t>& edge
       emit(m0, m1, m2, {X, X, X});
     }
   }
-  RefinedMesh out;
-  out.base_vertices = in.base_vertices;
-  out.mesh = TriMesh(std::move(positions), std::move(faces));
-  out.base_face = FaceData<uint32_t>(std::move(base_face));
-  out.corner_bary = FaceData<std::array<std::array<double, 3>, 3>>(std::move(bary));
-  if (face_labels) *face_labels = FaceData<uint32_t>(std::move(labels));
-  if (edge_flags) {
-    EdgeData<char> flags(out.mesh.num_edges(), 0);
-    for (uint32_t nf = 0; nf < out.mesh.num_faces(); ++nf)
-      for (int i = 0; i < 3; ++i)
-        if (old_edge[nf][i] != kInvalid)
-          flags[out.mesh.edge(3 * nf + i)] = (*edge_flags)[old_edge[nf][i]];
-    *edge_flags = std::move(flags);
-  }
-  return out;
+  return assemble(in, std::move(positions), std::move(faces), std::move(base_face), std::move(bary),
+                  std::move(labels), old_edge, face_labels, edge_flags);
 }
 
 RefinedMesh cut_along_chords(const RefinedMesh& in, const std::vector<EdgePoint>& points,
@@ -250,21 +263,8 @@ RefinedMesh cut_along_chords(const RefinedMesh& in, const std::vector<EdgePoint>
       if (piece.size() == 3) emit(piece[0], piece[1], piece[2]);
     }
   }
-  RefinedMesh out;
-  out.base_vertices = in.base_vertices;
-  out.mesh = TriMesh(std::move(positions), std::move(faces));
-  out.base_face = FaceData<uint32_t>(std::move(base_face));
-  out.corner_bary = FaceData<std::array<std::array<double, 3>, 3>>(std::move(bary));
-  if (face_labels) *face_labels = FaceData<uint32_t>(std::move(labels));
-  if (edge_flags) {
-    EdgeData<char> flags(out.mesh.num_edges(), 0);
-    for (uint32_t nf = 0; nf < out.mesh.num_faces(); ++nf)
-      for (int i = 0; i < 3; ++i)
-        if (old_edge[nf][i] != kInvalid)
-          flags[out.mesh.edge(3 * nf + i)] = (*edge_flags)[old_edge[nf][i]];
-    *edge_flags = std::move(flags);
-  }
-  return out;
+  return assemble(in, std::move(positions), std::move(faces), std::move(base_face), std::move(bary),
+                  std::move(labels), old_edge, face_labels, edge_flags);
 }
 
 }  // namespace isoquad
