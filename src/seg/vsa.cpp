@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <queue>
 #include <random>
 
@@ -105,6 +106,15 @@ class Vsa {
   double area_ = 0;
   std::vector<uint32_t> label_;
   std::vector<double> best_queued_;
+  // For flood: per face its normal, centroid and area together, and its crossable neighbours
+  // (kInvalid where the edge is a barrier or the boundary); built on the first flood.
+  struct PackedFace {
+    Vec3 normal, centroid;
+    double area;
+  };
+  std::vector<PackedFace> packed_;
+  std::vector<uint32_t> near_;
+  std::vector<QueueEntry> heap_;
   std::vector<Proxy> proxies_;
   std::vector<double> log_;
 };
@@ -147,31 +157,50 @@ void Vsa::smooth_normals() {
   }
 }
 
-// Distortion-minimizing flooding from the proxies' seed faces.
+// Distortion-minimizing flooding from the proxies' seed faces. The hot loop of the segmentation
+// (tens of floods over every face): it reads the packed per-face data and the crossable
+// neighbours built once, and keeps its heap between floods. The errors are computed exactly as
+// face_error does, so the labels are the same.
 void Vsa::flood() {
+  const uint32_t nf = m_.num_faces();
+  if (near_.empty()) {
+    near_.resize(3 * std::size_t(nf));
+    packed_.resize(nf);
+    for (uint32_t f = 0; f < nf; ++f) {
+      for (uint32_t i = 0; i < 3; ++i)
+        near_[3 * f + i] = crossable(3 * f + i) ? TriMesh::face_of(m_.twin(3 * f + i)) : kInvalid;
+      packed_[f] = {n_[f], c_[f], a_[f]};
+    }
+  }
   std::fill(label_.begin(), label_.end(), kInvalid);
   // Only an entry that beats the best one already queued for a face can decide its label.
   std::vector<double>& best = best_queued_;
-  best.assign(m_.num_faces(), INFINITY);
-  std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<>> queue;
+  best.assign(nf, INFINITY);
+  const double w = weight();
+  std::vector<QueueEntry>& heap = heap_;
+  heap.clear();
+  const auto later = std::greater<>();
   auto push_neighbours = [&](uint32_t f, uint32_t p) {
+    const Proxy& proxy = proxies_[p];
     for (uint32_t i = 0; i < 3; ++i) {
-      const uint32_t h = 3 * f + i;
-      if (!crossable(h)) continue;
-      const uint32_t g = TriMesh::face_of(m_.twin(h));
-      if (label_[g] != kInvalid) continue;
-      const double e = face_error(g, proxies_[p]);
+      const uint32_t g = near_[3 * f + i];
+      if (g == kInvalid || label_[g] != kInvalid) continue;
+      const PackedFace& d = packed_[g];
+      const double e = d.area * (squared_norm(d.normal - proxy.normal) +
+                                 w * squared_norm(d.centroid - proxy.centroid));
       if (e <= best[g]) {
         best[g] = e;
-        queue.push({e, g, p});
+        heap.push_back({e, g, p});
+        std::push_heap(heap.begin(), heap.end(), later);
       }
     }
   };
   for (uint32_t p = 0; p < proxies_.size(); ++p) label_[proxies_[p].seed_face] = p;
   for (uint32_t p = 0; p < proxies_.size(); ++p) push_neighbours(proxies_[p].seed_face, p);
-  while (!queue.empty()) {
-    const QueueEntry e = queue.top();
-    queue.pop();
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), later);
+    const QueueEntry e = heap.back();
+    heap.pop_back();
     if (label_[e.face] != kInvalid) continue;
     label_[e.face] = e.proxy;
     push_neighbours(e.face, e.proxy);
