@@ -189,10 +189,10 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
   };
   std::vector<std::array<uint32_t, 4>> corners = f.corners.corners;
   // One LP per trial slot, re-solved after each change: changing a patch's corners only
-  // rewrites its two side rows.
+  // rewrites its two side rows. Each trial starts from the basis of the current corners' optimum,
+  // which differs from the trial's only around the patch.
   constexpr uint32_t kSlots = 4;
-  const uint32_t n = uint32_t(meta.edges.size());
-  const MilpProblem problem = length_problem(targets, f.rows, false, false);
+  const RelaxedLengths relaxed = relaxed_length_problem(targets, f.rows);
   std::vector<std::unique_ptr<IncrementalLp>> lps(kSlots);
   std::vector<double> value(kSlots, INFINITY);
   auto set_rows = [&](IncrementalLp& lp, uint32_t p, const std::array<uint32_t, 4>& c) {
@@ -202,22 +202,29 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
     const uint32_t m = uint32_t(face.cycle.size());
     // Side of each item: corners split the cycle into four runs; which run is side 0 does not
     // matter for the rows (they are side 0 - side 2 and side 1 - side 3, up to sign).
+    SideRow side[2];
     for (uint32_t k = 0; k < 4; ++k)
-      for (uint32_t i = sorted[k]; i != sorted[(k + 1) % 4]; i = (i + 1) % m) {
-        const uint32_t e = face.cycle[i].edge;
-        const double sign = k < 2 ? 1 : -1;
-        lp.set_coefficient(side_row(n, 2 * p + (k % 2)), e, sign);
-        lp.set_coefficient(side_row(n, 2 * p + 1 - (k % 2)), e, 0);
-      }
+      for (uint32_t i = sorted[k]; i != sorted[(k + 1) % 4]; i = (i + 1) % m)
+        side[k % 2].push_back({face.cycle[i].edge, k < 2 ? 1 : -1});
+    for (uint32_t r = 0; r < 2; ++r) {
+      for (const BoundaryItem& item : face.cycle)
+        for (uint32_t j = relaxed.first[item.edge]; j < relaxed.first[item.edge + 1]; ++j)
+          lp.set_coefficient(2 * p + r, j, 0);
+      const RelaxedLengths::Row row = relaxed.row(side[r]);
+      for (const auto& [j, v] : row.terms) lp.set_coefficient(2 * p + r, j, v);
+      lp.set_row_bounds(2 * p + r, row.rhs, row.rhs);
+    }
   };
   auto lp_value = [](IncrementalLp& lp) {
     const MilpResult r = lp.solve();
     return r.found() ? r.objective : INFINITY;
   };
+  std::vector<std::shared_ptr<const IncrementalLp::Basis>> basis(kSlots);
   tbb::parallel_for(0u, kSlots, [&](uint32_t k) {
-    lps[k] = std::make_unique<IncrementalLp>(problem);
+    lps[k] = std::make_unique<IncrementalLp>(relaxed.lp);
     value[k] = lp_value(*lps[k]);
   });
+  std::shared_ptr<const IncrementalLp::Basis> base = lps[0]->basis();
   double best = total(corners, value[0]);
   if (!std::isfinite(best)) return;
   uint32_t changed = 0;
@@ -233,7 +240,9 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
     }
     tbb::parallel_for(0u, uint32_t(trials.size()), [&](uint32_t k) {
       set_rows(*lps[k], p, trials[k]);
+      lps[k]->set_basis(*base);
       value[k] = lp_value(*lps[k]);
+      basis[k] = lps[k]->basis();
       set_rows(*lps[k], p, corners[p]);
     });
     int pick = -1;
@@ -247,6 +256,7 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
     if (pick < 0) continue;
     best = pick_total;
     corners[p] = trials[pick];
+    base = basis[pick];  // the optimal basis of the new corners
     for (const auto& lp : lps) set_rows(*lp, p, corners[p]);
     ++changed;
   }
@@ -305,14 +315,16 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
     for (int round = 0; round < 12; ++round) {
       std::vector<double> c(meta.edges.size());
       for (uint32_t e = 0; e < c.size(); ++e) c[e] = meta.edges[e].geodesic / h;
-      const MilpResult r = solve_lp(length_problem(c, f->rows, false, false));
+      const RelaxedLengths relaxed = relaxed_length_problem(c, f->rows);
+      const MilpResult r = solve_lp(relaxed.lp);
       report.length_seconds += r.seconds;
       if (!r.found()) break;
+      const std::vector<double> x = relaxed.lengths(r.x);
       double q = 0;
       for (uint32_t p = 0; p < meta.faces.size(); ++p) {
         double side[2] = {0, 0};
         for (uint32_t i = 0; i < meta.faces[p].cycle.size(); ++i)
-          if (f->sides[p][i] < 2) side[f->sides[p][i]] += r.x[meta.faces[p].cycle[i].edge];
+          if (f->sides[p][i] < 2) side[f->sides[p][i]] += x[meta.faces[p].cycle[i].edge];
         q += side[0] * side[1];
       }
       if (std::fabs(q - wanted) <= 0.005 * wanted || std::fabs(q - last_q) <= 0.005 * q) break;

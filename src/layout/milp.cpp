@@ -107,6 +107,10 @@ MilpResult solve_lp(const MilpProblem& p) {
   return r;
 }
 
+struct IncrementalLp::Basis {
+  std::unique_ptr<CoinWarmStart> warm;
+};
+
 struct IncrementalLp::Impl {
   OsiClpSolverInterface solver;
   std::size_t columns = 0;
@@ -119,6 +123,18 @@ IncrementalLp::IncrementalLp(const MilpProblem& p) : impl_(std::make_unique<Impl
 }
 
 IncrementalLp::~IncrementalLp() = default;
+
+void IncrementalLp::set_row_bounds(uint32_t row, double lo, double hi) {
+  impl_->solver.setRowBounds(int(row), clamp_inf(lo), clamp_inf(hi));
+}
+
+std::shared_ptr<const IncrementalLp::Basis> IncrementalLp::basis() const {
+  auto b = std::make_shared<Basis>();
+  b->warm.reset(impl_->solver.getWarmStart());
+  return b;
+}
+
+void IncrementalLp::set_basis(const Basis& basis) { impl_->solver.setWarmStart(basis.warm.get()); }
 
 void IncrementalLp::set_coefficient(uint32_t row, uint32_t column, double value) {
   impl_->solver.getModelPtr()->modifyCoefficient(int(row), int(column), value, true);

@@ -52,7 +52,13 @@ class IncrementalLp {
   IncrementalLp(const IncrementalLp&) = delete;
   IncrementalLp& operator=(const IncrementalLp&) = delete;
   void set_coefficient(uint32_t row, uint32_t column, double value);
+  void set_row_bounds(uint32_t row, double lo, double hi);
   MilpResult solve();
+  // The current basis, and a basis (of this LP or of one with the same rows and columns) for
+  // the next solve to start from.
+  struct Basis;
+  std::shared_ptr<const Basis> basis() const;
+  void set_basis(const Basis& basis);
 
  private:
   struct Impl;

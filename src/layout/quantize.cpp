@@ -129,6 +129,54 @@ MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideR
   return ilp;
 }
 
+RelaxedLengths relaxed_length_problem(const std::vector<double>& c,
+                                      const std::vector<SideRow>& rows) {
+  const uint32_t n = uint32_t(c.size());
+  RelaxedLengths r;
+  r.target = c;
+  for (uint32_t e = 0; e < n; ++e) {
+    r.first.push_back(
+        r.lp.add_column(stretch_slope(c[e]), std::max(0.0, 1 - c[e]), MilpProblem::kInf, false));
+    for (const CostSegment& s : shrink_segments(c[e])) r.lp.add_column(s.slope, 0, s.length, false);
+  }
+  r.first.push_back(uint32_t(r.lp.objective.size()));
+  for (const SideRow& side : rows) {
+    const RelaxedLengths::Row image = r.row(side);
+    MilpProblem::Row row;
+    for (const auto& [j, v] : image.terms) row.columns.push_back(j), row.values.push_back(v);
+    row.lo = row.hi = image.rhs;
+    r.lp.add_row(std::move(row));
+  }
+  return r;
+}
+
+RelaxedLengths::Row RelaxedLengths::row(const SideRow& side) const {
+  Row r;
+  for (const auto& [e, sign] : side) {
+    for (uint32_t j = first[e]; j < first[e + 1]; ++j)
+      r.terms.push_back({j, j == first[e] ? sign : -sign});
+    r.rhs -= sign * target[e];
+  }
+  std::sort(r.terms.begin(), r.terms.end());
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < r.terms.size(); ++i)
+    if (out > 0 && r.terms[out - 1].first == r.terms[i].first)
+      r.terms[out - 1].second += r.terms[i].second;
+    else
+      r.terms[out++] = r.terms[i];
+  r.terms.resize(out);
+  return r;
+}
+
+std::vector<double> RelaxedLengths::lengths(const std::vector<double>& solution) const {
+  std::vector<double> x(target.size());
+  for (uint32_t e = 0; e < x.size(); ++e) {
+    x[e] = target[e] + solution[first[e]];
+    for (uint32_t j = first[e] + 1; j < first[e + 1]; ++j) x[e] -= solution[j];
+  }
+  return x;
+}
+
 namespace {
 
 MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows,
@@ -139,7 +187,7 @@ MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& 
 }  // namespace
 
 double relaxed_length_objective(const std::vector<double>& c, const std::vector<SideRow>& rows) {
-  const MilpResult r = solve_lp(length_problem(c, rows, false, false));
+  const MilpResult r = solve_lp(relaxed_length_problem(c, rows).lp);
   return r.found() ? r.objective : INFINITY;
 }
 

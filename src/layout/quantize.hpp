@@ -60,6 +60,30 @@ inline uint32_t side_row(uint32_t num_edges, uint32_t k) { return num_edges + k;
 MilpProblem length_problem(const std::vector<double>& target, const std::vector<SideRow>& rows,
                            bool bounded, bool integer);
 
+// The LP relaxation of the length program with x eliminated: per edge e the columns
+// [first[e], first[e + 1]) are its stretch (coefficient +1) and then its shrink segments (-1), so
+// x_e = c_e + stretch - sum shrink, and x_e >= 1 is the segments' bounds. What is left are the
+// side equations alone, one row each (row k for rows[k]), with right-hand side -sum sign c_e.
+// Same optimum as length_problem's relaxation, with 2 rows per patch instead of that plus one
+// per meta-edge: the corner refinement re-solves it tens of times, and each re-solve
+// refactorizes the basis.
+struct RelaxedLengths {
+  MilpProblem lp;
+  std::vector<uint32_t> first;  // num_edges + 1 entries
+  std::vector<double> target;
+  // The lengths of a solution of `lp`.
+  std::vector<double> lengths(const std::vector<double>& solution) const;
+  // The row of one side equation: its terms by column (an edge met twice adds up) and its
+  // right-hand side.
+  struct Row {
+    std::vector<std::pair<uint32_t, double>> terms;
+    double rhs = 0;
+  };
+  Row row(const SideRow& side) const;
+};
+RelaxedLengths relaxed_length_problem(const std::vector<double>& target,
+                                      const std::vector<SideRow>& rows);
+
 struct Lengths {
   std::vector<int64_t> x;
   double objective = 0;  // sum_e d(x_e, c_e)

@@ -75,6 +75,34 @@ TEST(Feasibility, PaperFigure4ForcedZero) {
   EXPECT_NEAR(l.objective, best, 1e-9);
 }
 
+TEST(LengthProgram, RelaxationWithoutLengthColumnsHasTheSameOptimum) {
+  // Figure 4's repaired rows, and a patch whose two sides share an edge (it cancels in its row).
+  const std::vector<SideRow> fixed = {{{0, 1}, {1, -1}}, {{1, 1}, {2, 1}, {0, -1}, {3, -1}}};
+  const std::vector<SideRow> shared = {{{0, 1}, {1, 1}, {1, -1}, {2, -1}}, {{3, 1}, {0, -1}}};
+  for (const auto& rows : {fixed, shared})
+    for (const std::vector<double>& c : std::vector<std::vector<double>>{
+             {3.2, 2.9, 1.4, 1.6}, {0.3, 7.5, 12.25, 0.8}, {20, 1, 1, 5.5}}) {
+      const MilpResult full = solve_lp(length_problem(c, rows, false, false));
+      const RelaxedLengths relaxed = relaxed_length_problem(c, rows);
+      const MilpResult r = solve_lp(relaxed.lp);
+      ASSERT_TRUE(full.found() && r.found());
+      EXPECT_EQ(relaxed.lp.rows.size(), rows.size());
+      EXPECT_NEAR(r.objective, full.objective, 1e-9);
+      const std::vector<double> x = relaxed.lengths(r.x);
+      double cost = 0;
+      for (uint32_t e = 0; e < c.size(); ++e) {
+        EXPECT_GE(x[e], 1 - 1e-9);
+        cost += length_cost(x[e], c[e]);
+      }
+      EXPECT_NEAR(cost, r.objective, 1e-9);  // the segments fill in order: the cost is convex
+      for (const SideRow& row : rows) {
+        double sum = 0;
+        for (const auto& [e, sign] : row) sum += sign * x[e];
+        EXPECT_NEAR(sum, 0, 1e-9);
+      }
+    }
+}
+
 TEST(LengthCost, SymmetricInTheRatioAndConvex) {
   for (const double c : {1.0, 2.5, 7.0, 15.3, 40.0}) {
     EXPECT_EQ(length_cost(c, c), 0.0);
