@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <tuple>
 
 #include <tbb/parallel_for.h>
 
@@ -195,7 +196,8 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
   const RelaxedLengths relaxed = relaxed_length_problem(targets, f.rows);
   std::vector<std::unique_ptr<IncrementalLp>> lps(kSlots);
   std::vector<double> value(kSlots, INFINITY);
-  auto set_rows = [&](IncrementalLp& lp, uint32_t p, const std::array<uint32_t, 4>& c) {
+  // Patch p's two rows for corners c.
+  auto patch_rows = [&](uint32_t p, const std::array<uint32_t, 4>& c) {
     std::array<uint32_t, 4> sorted = c;
     std::sort(sorted.begin(), sorted.end());
     const MetaFace& face = meta.faces[p];
@@ -206,27 +208,94 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
     for (uint32_t k = 0; k < 4; ++k)
       for (uint32_t i = sorted[k]; i != sorted[(k + 1) % 4]; i = (i + 1) % m)
         side[k % 2].push_back({face.cycle[i].edge, k < 2 ? 1 : -1});
+    return std::array<RelaxedLengths::Row, 2>{relaxed.row(side[0]), relaxed.row(side[1])};
+  };
+  auto set_rows = [&](IncrementalLp& lp, uint32_t p, const std::array<uint32_t, 4>& c) {
+    const auto rows = patch_rows(p, c);
     for (uint32_t r = 0; r < 2; ++r) {
-      for (const BoundaryItem& item : face.cycle)
+      for (const BoundaryItem& item : meta.faces[p].cycle)
         for (uint32_t j = relaxed.first[item.edge]; j < relaxed.first[item.edge + 1]; ++j)
           lp.set_coefficient(2 * p + r, j, 0);
-      const RelaxedLengths::Row row = relaxed.row(side[r]);
-      for (const auto& [j, v] : row.terms) lp.set_coefficient(2 * p + r, j, v);
-      lp.set_row_bounds(2 * p + r, row.rhs, row.rhs);
+      for (const auto& [j, v] : rows[r].terms) lp.set_coefficient(2 * p + r, j, v);
+      lp.set_row_bounds(2 * p + r, rows[r].rhs, rows[r].rhs);
     }
   };
-  auto lp_value = [](IncrementalLp& lp) {
-    const MilpResult r = lp.solve();
+  // Exact pruning: a lower bound on a trial's LP optimum from Lagrangian duality. At the current
+  // optimum's row prices y the dual function equals the optimum; a trial rewrites patch p's two
+  // rows, and for any prices (u, w) on the new rows, with y kept on the others, the dual function
+  // is still a lower bound. It is cheap: only the columns of p's meta-edges change. (u, w) is the
+  // best of 0 and +-the old prices of p's rows in either order: on fandisk this prunes 31 of 89
+  // trials, an exact optimization of (u, w) one more.
+  std::vector<RelaxedLengths::Row> rows_now(relaxed.lp.rows.size());
+  for (uint32_t r = 0; r < rows_now.size(); ++r) {
+    const MilpProblem::Row& row = relaxed.lp.rows[r];
+    for (std::size_t i = 0; i < row.columns.size(); ++i)
+      rows_now[r].terms.push_back({row.columns[i], row.values[i]});
+    rows_now[r].rhs = row.lo;
+  }
+  std::vector<double> y, reduced;  // current prices, and reduced costs c - A^T y
+  double dual_value = 0;
+  auto column_min = [&](uint32_t j, double d) {  // min of d x over column j's bounds
+    if (std::fabs(d) <= 1e-9) return 0.0;        // within the dual tolerance
+    const double bound = d > 0 ? relaxed.lp.col_lo[j] : relaxed.lp.col_hi[j];
+    return std::isfinite(bound) ? d * bound : -INFINITY;
+  };
+  auto set_prices = [&](const std::vector<double>& prices) {
+    y = prices;
+    reduced = relaxed.lp.objective;
+    dual_value = 0;
+    for (uint32_t r = 0; r < rows_now.size(); ++r) {
+      dual_value += y[r] * rows_now[r].rhs;
+      for (const auto& [j, v] : rows_now[r].terms) reduced[j] -= y[r] * v;
+    }
+    for (uint32_t j = 0; j < reduced.size(); ++j) dual_value += column_min(j, reduced[j]);
+  };
+  auto lower_bound = [&](uint32_t p, const std::array<RelaxedLengths::Row, 2>& trial) {
+    double rest = dual_value;  // the dual function without p's rows and columns
+    std::vector<std::tuple<uint32_t, double, double, double>> terms;  // column, d, a, b
+    for (uint32_t r = 2 * p; r < 2 * p + 2; ++r) {
+      rest -= y[r] * rows_now[r].rhs;
+      for (const auto& [j, v] : rows_now[r].terms) terms.push_back({j, y[r] * v, 0, 0});
+    }
+    for (uint32_t r = 0; r < 2; ++r)
+      for (const auto& [j, v] : trial[r].terms)
+        terms.push_back({j, 0, r == 0 ? v : 0, r == 1 ? v : 0});
+    std::sort(terms.begin(), terms.end());
+    std::vector<std::tuple<uint32_t, double, double, double>> cols;  // merged by column
+    for (const auto& [j, d, a, b] : terms) {
+      if (cols.empty() || std::get<0>(cols.back()) != j) {
+        rest -= column_min(j, reduced[j]);
+        cols.push_back({j, reduced[j], 0, 0});
+      }
+      std::get<1>(cols.back()) += d;
+      std::get<2>(cols.back()) += a;
+      std::get<3>(cols.back()) += b;
+    }
+    const double ya = y[2 * p], yb = y[2 * p + 1];
+    double best_bound = -INFINITY;
+    for (const double u : {0.0, ya, -ya, yb, -yb})
+      for (const double w : {0.0, ya, -ya, yb, -yb}) {
+        double bound = rest + u * trial[0].rhs + w * trial[1].rhs;
+        for (const auto& [j, d, a, b] : cols) bound += column_min(j, d - u * a - w * b);
+        best_bound = std::max(best_bound, bound);
+      }
+    return best_bound;
+  };
+  std::vector<std::vector<double>> prices(kSlots);
+  auto lp_value = [&](uint32_t k) {
+    const MilpResult r = lps[k]->solve();
+    prices[k] = r.duals;
     return r.found() ? r.objective : INFINITY;
   };
   std::vector<std::shared_ptr<const IncrementalLp::Basis>> basis(kSlots);
   tbb::parallel_for(0u, kSlots, [&](uint32_t k) {
     lps[k] = std::make_unique<IncrementalLp>(relaxed.lp);
-    value[k] = lp_value(*lps[k]);
+    value[k] = lp_value(k);
   });
   std::shared_ptr<const IncrementalLp::Basis> base = lps[0]->basis();
   double best = total(corners, value[0]);
   if (!std::isfinite(best)) return;
+  set_prices(prices[0]);
   uint32_t changed = 0;
   for (uint32_t p = 0; p < np; ++p) {
     std::vector<std::array<uint32_t, 4>> trials;
@@ -236,12 +305,14 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
       if (all[p][c].items == current) continue;
       auto trial = corners;
       trial[p] = all[p][c].items;
-      if (std::isfinite(total(trial, 0))) trials.push_back(all[p][c].items);
+      if (std::isfinite(total(trial, 0)) &&
+          total(trial, lower_bound(p, patch_rows(p, all[p][c].items))) < best + 1e-6)
+        trials.push_back(all[p][c].items);
     }
     tbb::parallel_for(0u, uint32_t(trials.size()), [&](uint32_t k) {
       set_rows(*lps[k], p, trials[k]);
       lps[k]->set_basis(*base);
-      value[k] = lp_value(*lps[k]);
+      value[k] = lp_value(k);
       basis[k] = lps[k]->basis();
       set_rows(*lps[k], p, corners[p]);
     });
@@ -256,8 +327,12 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
     if (pick < 0) continue;
     best = pick_total;
     corners[p] = trials[pick];
-    base = basis[pick];  // the optimal basis of the new corners
+    base = basis[pick];  // the optimal basis of the new corners, and its prices
     for (const auto& lp : lps) set_rows(*lp, p, corners[p]);
+    const auto rows = patch_rows(p, corners[p]);
+    rows_now[2 * p] = rows[0];
+    rows_now[2 * p + 1] = rows[1];
+    set_prices(prices[pick]);
     ++changed;
   }
   if (changed > 0) {

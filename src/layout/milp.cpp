@@ -152,6 +152,7 @@ MilpResult IncrementalLp::solve() {
   r.seconds = since(t0);
   if (solver.isProvenOptimal()) {
     r.x.assign(solver.getColSolution(), solver.getColSolution() + impl_->columns);
+    r.duals.assign(solver.getRowPrice(), solver.getRowPrice() + solver.getNumRows());
     r.objective = solver.getObjValue();
     r.status = MilpResult::Status::optimal;
   } else {

@@ -30,6 +30,7 @@ struct MilpResult {
   enum class Status { optimal, feasible, infeasible, failed };
   Status status = Status::failed;
   std::vector<double> x;
+  std::vector<double> duals;  // row prices y (reduced costs c - A^T y); IncrementalLp only
   double objective = 0;
   double seconds = 0;
   bool found() const { return status == Status::optimal || status == Status::feasible; }
