@@ -1,6 +1,7 @@
 // isoquad quality QUADS --reference IN: validity, shape and distance of a quad mesh.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -15,7 +16,35 @@ namespace {
 struct QualityArgs {
   std::string mesh, reference;
   bool json = false;
+  uint32_t worst = 0;
 };
+
+struct WorstFace {
+  uint32_t face = 0;
+  double sj = 0;
+  Vec3 centroid;
+};
+
+// The `count` faces with the smallest scaled Jacobian against the reference's normal (ties by
+// face id), so that a user can find the folded or worst-shaped elements.
+std::vector<WorstFace> worst_faces(const PolyMesh& quads, const PolyMesh& reference,
+                                   uint32_t count) {
+  const std::vector<double> sj = surface_scaled_jacobians(quads, reference);
+  std::vector<uint32_t> order(sj.size());
+  for (uint32_t f = 0; f < order.size(); ++f) order[f] = f;
+  const std::size_t n = std::min<std::size_t>(count, order.size());
+  std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(n), order.end(),
+                    [&](uint32_t a, uint32_t b) { return sj[a] != sj[b] ? sj[a] < sj[b] : a < b; });
+  std::vector<WorstFace> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    WorstFace w{order[i], sj[order[i]], {}};
+    const auto& face = quads.face(order[i]);
+    for (const uint32_t v : face) w.centroid += quads.positions[v];
+    w.centroid = w.centroid / double(face.size());
+    out.push_back(w);
+  }
+  return out;
+}
 }  // namespace
 
 void print_quality(const QualityReport& q) {
@@ -55,15 +84,35 @@ Runner add_quality(CLI::App& app) {
   sub->add_option("--reference", a->reference,
                   "Input surface: topology comparison, surface-normal Jacobians, distances");
   sub->add_flag("--json", a->json, "Print the report as JSON");
+  sub->add_option("--worst", a->worst,
+                  "Also list the N faces with the smallest scaled Jacobian against the surface "
+                  "(id from 0 in file order, value, centroid)")
+      ->needs(sub->get_option("--reference"));
   return [a] {
     const ReadResult quads = read_mesh(a->mesh);
     std::optional<ReadResult> ref;
     if (!a->reference.empty()) ref = read_mesh(a->reference);
     const QualityReport q = measure_quality(quads.mesh, ref ? &ref->mesh : nullptr);
-    if (a->json)
-      std::cout << nlohmann::json(q).dump(2) << '\n';
-    else
+    const std::vector<WorstFace> worst =
+        a->worst > 0 ? worst_faces(quads.mesh, ref->mesh, a->worst) : std::vector<WorstFace>{};
+    if (a->json) {
+      nlohmann::json j = q;
+      if (a->worst > 0) {
+        j["worst"] = nlohmann::json::array();
+        for (const WorstFace& w : worst)
+          j["worst"].push_back({{"face", w.face},
+                                {"scaled_jacobian_surface", w.sj},
+                                {"centroid", {w.centroid.x, w.centroid.y, w.centroid.z}}});
+      }
+      std::cout << j.dump(2) << '\n';
+    } else {
       print_quality(q);
+      for (const WorstFace& w : worst)
+        fmt::print(
+            "face {}: scaled Jacobian against the surface {:.3f}, centroid ({:.4g}, {:.4g}, "
+            "{:.4g})\n",
+            w.face, w.sj, w.centroid.x, w.centroid.y, w.centroid.z);
+    }
     return 0;
   };
 }

@@ -174,6 +174,23 @@ TEST(Cli, RemeshQualityAndParamOnSampleMeshes) {
   const auto jq = nlohmann::json::parse(q.out);
   EXPECT_EQ(jq["faces"], j["quads"]);
   EXPECT_EQ(jq["topology"], j["quality"]["topology"]);
+  // --worst lists the worst faces, smallest first; the first is the minimum of the report.
+  const CliRun w = run("quality --json --worst 5 " + out.string() + " --reference " + in);
+  ASSERT_EQ(w.status, 0) << w.err;
+  const auto jw = nlohmann::json::parse(w.out)["worst"];
+  ASSERT_EQ(jw.size(), 5u);
+  EXPECT_DOUBLE_EQ(jw[0]["scaled_jacobian_surface"].get<double>(),
+                   jq["scaled_jacobian_surface"]["min"].get<double>());
+  for (std::size_t i = 1; i < jw.size(); ++i) {
+    EXPECT_LE(jw[i - 1]["scaled_jacobian_surface"].get<double>(),
+              jw[i]["scaled_jacobian_surface"].get<double>());
+    EXPECT_LT(jw[i]["face"].get<int>(), jq["faces"].get<int>());
+  }
+  const CliRun plain = run("quality --worst 2 " + out.string() + " --reference " + in);
+  EXPECT_NE(plain.out.find("face " + std::to_string(jw[1]["face"].get<int>()) + ":"),
+            std::string::npos)
+      << plain.out;
+  EXPECT_NE(run("quality --worst 2 " + out.string()).status, 0);  // needs --reference
   std::filesystem::remove(out);
   const auto obj = dir / ("isoquad_cli_param_" + std::to_string(::getpid()) + ".obj");
   const CliRun p = run("param " + in + " --quads 800 -o " + obj.string() + " --json");
