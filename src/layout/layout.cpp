@@ -33,7 +33,8 @@ struct Feasible {
 // A cheap first repair: patches along the forced-zero meta-edges try their next candidates,
 // one at a time, in patch order; a change is kept when it shrinks the forced-zero set without
 // leaving the valence bounds. Each try is one exact feasibility test (an LP, milliseconds),
-// against a second for the feasibility-aware ILP that remains the fallback.
+// against a second for the feasibility-aware ILP that remains the fallback. The tests share one
+// LP, each started from the current corners' optimal basis.
 bool greedy_feasible(const MetaMesh& meta, const std::vector<std::vector<CornerCandidate>>& cands,
                      Feasible& f, std::vector<uint32_t> zero, LayoutReport& report) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -48,6 +49,7 @@ bool greedy_feasible(const MetaMesh& meta, const std::vector<std::vector<CornerC
   };
   uint32_t changed = 0;
   bool feasible = false;
+  FeasibilityLp lp(n, f.rows);  // the trials differ from the current corners in one patch
   for (int round = 0; round < 3 && !feasible && !zero.empty(); ++round) {
     std::vector<uint32_t> patches;
     for (const uint32_t e : zero) {
@@ -66,8 +68,9 @@ bool greedy_feasible(const MetaMesh& meta, const std::vector<std::vector<CornerC
         corners[p] = c.items;
         if (!valences_ok(corners)) continue;
         const auto rows = side_equations(meta, item_sides(meta, corners));
-        const Feasibility t = check_feasibility(n, rows);
+        const Feasibility t = lp.test(p, rows[2 * p], rows[2 * p + 1]);
         if (!t.feasible && t.forced_zero.size() >= zero.size()) continue;
+        lp.accept(p, rows[2 * p], rows[2 * p + 1]);
         f.corners.corners = corners;
         if (p < f.corners.chosen.size()) f.corners.chosen[p] = k;
         zero = t.forced_zero;

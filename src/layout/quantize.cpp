@@ -43,11 +43,13 @@ std::vector<SideRow> side_equations(const MetaMesh& meta,
   return rows;
 }
 
-Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
-  // The maximal support in one LP: lengths x >= 0 satisfying the side equations and an
-  // indicator 0 <= t_e <= min(x_e, 1), maximizing the sum of t. The equations are homogeneous,
-  // so any solution scales: the optimum is the size of the largest support, with t_e = 1 on it
-  // (a sum of rounds each maximizing the edges not yet positive needed 2-4 LPs).
+namespace {
+
+// The maximal support in one LP: lengths x >= 0 satisfying the side equations and an indicator
+// 0 <= t_e <= min(x_e, 1), maximizing the sum of t. The equations are homogeneous, so any
+// solution scales: the optimum is the size of the largest support, with t_e = 1 on it (a sum of
+// rounds each maximizing the edges not yet positive needed 2-4 LPs).
+MilpProblem support_lp(uint32_t n, const std::vector<SideRow>& rows) {
   MilpProblem lp;
   for (uint32_t e = 0; e < n; ++e) lp.add_column(0, 0, MilpProblem::kInf, false);  // x
   for (uint32_t e = 0; e < n; ++e) lp.add_column(-1, 0, 1, false);                 // t
@@ -58,13 +60,65 @@ Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
     lp.add_row(std::move(row));
   }
   for (uint32_t e = 0; e < n; ++e) lp.add_row({{e, n + e}, {-1.0, 1.0}, -MilpProblem::kInf, 0});
+  return lp;
+}
+
+Feasibility support_of(uint32_t n, const MilpResult& r) {
   Feasibility f;
-  const MilpResult r = solve_lp(lp);
   f.seconds = r.seconds;
   for (uint32_t e = 0; e < n; ++e)
     if (!r.found() || r.x[n + e] < 0.5) f.forced_zero.push_back(e);
   f.feasible = f.forced_zero.empty();
   return f;
+}
+
+}  // namespace
+
+Feasibility check_feasibility(uint32_t n, const std::vector<SideRow>& rows) {
+  return support_of(n, solve_lp(support_lp(n, rows)));
+}
+
+FeasibilityLp::FeasibilityLp(uint32_t n, const std::vector<SideRow>& rows)
+    : n_(n), rows_(rows), lp_(std::make_unique<IncrementalLp>(support_lp(n, rows))) {
+  lp_->solve();
+  base_ = lp_->basis();
+}
+
+FeasibilityLp::~FeasibilityLp() = default;
+
+void FeasibilityLp::write(uint32_t p, const SideRow& row0, const SideRow& row1) {
+  // Clear what the rows held, then set the sums of the new terms (an edge may be met twice).
+  for (uint32_t r = 0; r < 2; ++r) {
+    for (const auto& [e, sign] : rows_[2 * p + r]) lp_->set_coefficient(2 * p + r, e, 0);
+    std::vector<std::pair<uint32_t, int>> terms = r == 0 ? row0 : row1;
+    std::sort(terms.begin(), terms.end());
+    for (std::size_t i = 0; i < terms.size();) {
+      const uint32_t e = terms[i].first;
+      int sum = 0;
+      for (; i < terms.size() && terms[i].first == e; ++i) sum += terms[i].second;
+      lp_->set_coefficient(2 * p + r, e, sum);
+    }
+  }
+}
+
+Feasibility FeasibilityLp::test(uint32_t p, const SideRow& row0, const SideRow& row1) {
+  write(p, row0, row1);
+  lp_->set_basis(*base_);
+  const Feasibility f = support_of(n_, lp_->solve());
+  // Back to the base rows (their coefficients; the basis is reset before the next test).
+  const SideRow old0 = rows_[2 * p], old1 = rows_[2 * p + 1];
+  rows_[2 * p] = row0, rows_[2 * p + 1] = row1;
+  write(p, old0, old1);
+  rows_[2 * p] = old0, rows_[2 * p + 1] = old1;
+  return f;
+}
+
+void FeasibilityLp::accept(uint32_t p, const SideRow& row0, const SideRow& row1) {
+  write(p, row0, row1);
+  rows_[2 * p] = row0, rows_[2 * p + 1] = row1;
+  lp_->set_basis(*base_);
+  lp_->solve();
+  base_ = lp_->basis();
 }
 
 double stretch_slope(double c) { return 1.0 / std::max(c, 1.0); }

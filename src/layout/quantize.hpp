@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,26 @@ struct Feasibility {
   double seconds = 0;
 };
 Feasibility check_feasibility(uint32_t num_edges, const std::vector<SideRow>& rows);
+
+// The same test again and again for side equations that differ from a base set in one patch's two
+// rows (rows 2p and 2p + 1, as side_equations lays them out): one LP kept between tests, each
+// test starting from the base optimum's basis (the greedy corner repair tries tens of them).
+class FeasibilityLp {
+ public:
+  FeasibilityLp(uint32_t num_edges, const std::vector<SideRow>& rows);
+  ~FeasibilityLp();
+  // The test with patch p's rows replaced by `row0` and `row1`; the base is left as it was.
+  Feasibility test(uint32_t p, const SideRow& row0, const SideRow& row1);
+  // Makes the replacement part of the base.
+  void accept(uint32_t p, const SideRow& row0, const SideRow& row1);
+
+ private:
+  void write(uint32_t p, const SideRow& row0, const SideRow& row1);
+  uint32_t n_;
+  std::vector<SideRow> rows_;
+  std::unique_ptr<IncrementalLp> lp_;
+  std::shared_ptr<const IncrementalLp::Basis> base_;
+};
 
 // The LP relaxation of the length program: its optimum (sum d(x_e, c_e) over real x >= 1),
 // or +infinity when the side equations admit no positive lengths.

@@ -75,6 +75,29 @@ TEST(Feasibility, PaperFigure4ForcedZero) {
   EXPECT_NEAR(l.objective, best, 1e-9);
 }
 
+TEST(Feasibility, IncrementalTestsAgreeWithTheFullTest) {
+  // Figure 4 (d forced to 0) as patches 0 and 1, and a patch 2 that balances e with itself.
+  const uint32_t a = 0, b = 1, d = 2, e = 3;
+  const std::vector<SideRow> base = {{{a, 1}, {b, -1}}, {{e, 1}, {e, -1}},
+                                     {{b, 1}, {a, -1}, {d, -1}}, {{e, 1}, {e, -1}}};
+  FeasibilityLp lp(4, base);
+  const SideRow fixed0 = {{b, 1}, {d, 1}, {a, -1}, {e, -1}}, fixed1 = {};
+  for (int repeat = 0; repeat < 2; ++repeat) {  // a test leaves the base as it was
+    const Feasibility t = lp.test(1, fixed0, fixed1);
+    auto rows = base;
+    rows[2] = fixed0, rows[3] = fixed1;
+    EXPECT_EQ(t.forced_zero, check_feasibility(4, rows).forced_zero);
+    EXPECT_TRUE(t.feasible);
+    const Feasibility same = lp.test(1, base[2], base[3]);
+    EXPECT_EQ(same.forced_zero, check_feasibility(4, base).forced_zero);
+    EXPECT_EQ(same.forced_zero, std::vector<uint32_t>{d});
+  }
+  // Accepted, the fix is the base: putting the old rows back is a test against it.
+  lp.accept(1, fixed0, fixed1);
+  EXPECT_EQ(lp.test(1, base[2], base[3]).forced_zero, std::vector<uint32_t>{d});
+  EXPECT_TRUE(lp.test(0, base[0], base[1]).feasible);
+}
+
 TEST(LengthProgram, RelaxationWithoutLengthColumnsHasTheSameOptimum) {
   // Figure 4's repaired rows, and a patch whose two sides share an edge (it cancels in its row).
   const std::vector<SideRow> fixed = {{{0, 1}, {1, -1}}, {{1, 1}, {2, 1}, {0, -1}, {3, -1}}};
