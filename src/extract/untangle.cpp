@@ -107,11 +107,11 @@ struct Untangler {
     return std::min(std::min(sj[0], sj[1]), std::min(sj[2], sj[3]));
   }
 
-  // v's neighbourhood: its worst corner, and the squared shortfall of its quads' corners below
-  // `cap` (a smooth measure, so that a tangle whose worst corner one vertex cannot lift still
-  // shows progress).
+  // v's neighbourhood: the squared shortfall of its quads' corners below `cap`. Moving v changes
+  // only those corners, so a move that lowers it lowers the sum over the whole mesh: the sweeps
+  // descend one energy and end.
   struct Local {
-    double worst = 1, shortfall = 0;
+    double shortfall = 0;
   };
   // `opposite` holds, per quad at v, the value of its corner opposite v: moving v does not change
   // it (its edges do not end at v), so a trial needs only the other three.
@@ -119,17 +119,14 @@ struct Untangler {
                       const std::vector<std::pair<int, double>>& opposite) const {
     Local l;
     for (std::size_t i = 0; i < around[v].size(); ++i)
-      for (const double s : corner_sj(around[v][i], opposite[i].first, opposite[i].second)) {
-        l.worst = std::min(l.worst, s);
+      for (const double s : corner_sj(around[v][i], opposite[i].first, opposite[i].second))
         if (s < cap) l.shortfall += (cap - s) * (cap - s);
-      }
     return l;
   }
-  // Better: less shortfall without a worse worst corner, or a better worst corner.
-  static bool better(const Local& a, const Local& b) {
-    if (a.worst > b.worst + 1e-12) return true;
-    return a.worst >= b.worst && a.shortfall < b.shortfall - 1e-12;
-  }
+  // Better: less shortfall. Requiring also that the worst corner around v not drop (as this did
+  // before) left tangles where two corners must trade: 52 folded quads on the corpus at 1,500
+  // quads against 39 without it, 108 against 61 at the default size.
+  static bool better(const Local& a, const Local& b) { return a.shortfall < b.shortfall - 1e-12; }
 
   // Moves v to the best of its trial positions in its tangent plane; true if it moved.
   bool improve(uint32_t v, double cap) {

@@ -101,8 +101,8 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
 }
 
 // At the default size (one quad per 8 input triangles, 1,000 to 20,000): the same validity, and
-// bounds that hold today (knot1, whose VSA strips wind around the tube, folds most: 2% of its
-// 3,281 quads).
+// bounds that hold today (knot1, whose VSA strips wind around the tube, folds most: 22 of its
+// 3,281 quads, 0.7%; 2% before the untangler descended one energy).
 TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   ISOQUAD_CORPUS_MESH(path, GetParam());
   const ReadResult input = read_mesh(path);
@@ -118,7 +118,7 @@ TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   EXPECT_TRUE(q.same_topology);
   EXPECT_GE(quads.num_faces(), 900u);
   EXPECT_GT(shortest_edge(quads), 1e-6);
-  EXPECT_LT(100 * q.sj_surface_nonpositive, 3 * quads.num_faces());
+  EXPECT_LT(100 * q.sj_surface_nonpositive, quads.num_faces());
   EXPECT_LT(q.hausdorff, 0.08);
   RecordProperty("quads", int(quads.num_faces()));
   RecordProperty("sj_surface_nonpositive", int(q.sj_surface_nonpositive));
