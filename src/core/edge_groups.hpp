@@ -16,18 +16,39 @@ struct EdgeHalfedge {
   uint32_t h;       // halfedge 3t + i, from corner i to corner (i+1)%3 of triangle t
 };
 
-// Sorted by (lo, hi, h): halfedges of one edge are adjacent, in triangle order.
+// Sorted by (lo, hi, h): halfedges of one edge are adjacent, in triangle order. A counting sort
+// by lo (visiting halfedges in order, so each bucket is in h order), then each bucket (a few
+// entries: the edges whose smaller end is that vertex) by hi, stably. Four of these ran in the
+// preparation of every mesh, and one per TriMesh built; std::sort of packed 64-bit keys took
+// about 30% of bunny00's preparation.
 inline std::vector<EdgeHalfedge> halfedges_by_edge(std::span<const std::array<uint32_t, 3>> tris) {
-  // Sorting one packed 64-bit key (then h) is about twice as fast as comparing three fields.
-  std::vector<std::pair<uint64_t, uint32_t>> packed(3 * tris.size());
-  for (uint32_t h = 0; h < packed.size(); ++h) {
+  const std::size_t n = 3 * tris.size();
+  uint32_t nv = 0;
+  for (const auto& t : tris) nv = std::max({nv, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<uint32_t> start(std::size_t(nv) + 1, 0);
+  auto ends = [&](std::size_t h) {
     const uint32_t a = tris[h / 3][h % 3], b = tris[h / 3][(h % 3 + 1) % 3];
-    packed[h] = {(uint64_t(std::min(a, b)) << 32) | std::max(a, b), h};
+    return std::pair(std::min(a, b), std::max(a, b));
+  };
+  for (std::size_t h = 0; h < n; ++h) ++start[ends(h).first + 1];
+  for (uint32_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<EdgeHalfedge> keys(n);
+  std::vector<uint32_t> next(start.begin(), start.end() - 1);
+  for (std::size_t h = 0; h < n; ++h) {
+    const auto [lo, hi] = ends(h);
+    keys[next[lo]++] = {lo, hi, uint32_t(h)};
   }
-  std::sort(packed.begin(), packed.end());
-  std::vector<EdgeHalfedge> keys(packed.size());
-  for (std::size_t i = 0; i < packed.size(); ++i)
-    keys[i] = {uint32_t(packed[i].first >> 32), uint32_t(packed[i].first), packed[i].second};
+  auto by_hi = [](const EdgeHalfedge& x, const EdgeHalfedge& y) { return x.hi < y.hi; };
+  for (uint32_t v = 0; v < nv; ++v) {
+    EdgeHalfedge* first = keys.data() + start[v];
+    EdgeHalfedge* last = keys.data() + start[v + 1];
+    if (last - first <= 16) {  // insertion sort, stable
+      for (EdgeHalfedge* i = first + 1; i < last; ++i)
+        for (EdgeHalfedge* j = i; j > first && by_hi(*j, *(j - 1)); --j) std::swap(*j, *(j - 1));
+    } else {
+      std::stable_sort(first, last, by_hi);
+    }
+  }
   return keys;
 }
 

@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <tuple>
+
+#include "core/edge_groups.hpp"
 #include "core/tri_mesh.hpp"
 #include "isoquad/error.hpp"
 #include "shapes.hpp"
@@ -100,4 +104,25 @@ TEST(TriMesh, RejectsViolatedPreconditions) {
   EXPECT_EQ(code({{0, 1, 1}}), "E100");                        // repeated vertex
   EXPECT_EQ(code({{0, 1, 2}}), "E100");                        // vertices 3, 4 unused
   EXPECT_EQ(code({{0, 1, 2}, {0, 3, 4}}), "E100");             // bow tie at vertex 0
+}
+
+TEST(EdgeGroups, HalfedgesSortedByEdgeThenHalfedge) {
+  // A fan of 40 triangles around vertex 0 (its bucket is sorted the long way), a strip, and a
+  // triangle repeated (three halfedges on one edge): the order must be (lo, hi, h) exactly.
+  std::vector<std::array<uint32_t, 3>> tris;
+  for (uint32_t i = 1; i <= 40; ++i) tris.push_back({0, 40 - i + 1, (40 - i + 1) % 40 + 1});
+  for (uint32_t i = 50; i < 60; ++i) tris.push_back({i, i + 1, i + 2});
+  tris.push_back({70, 71, 72});
+  tris.push_back({72, 71, 70});
+  tris.push_back({70, 71, 73});
+  const std::vector<EdgeHalfedge> keys = halfedges_by_edge(tris);
+  ASSERT_EQ(keys.size(), 3 * tris.size());
+  std::vector<std::tuple<uint32_t, uint32_t, uint32_t>> expected;
+  for (uint32_t h = 0; h < 3 * tris.size(); ++h) {
+    const uint32_t a = tris[h / 3][h % 3], b = tris[h / 3][(h % 3 + 1) % 3];
+    expected.push_back({std::min(a, b), std::max(a, b), h});
+  }
+  std::sort(expected.begin(), expected.end());
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    EXPECT_EQ(std::make_tuple(keys[i].lo, keys[i].hi, keys[i].h), expected[i]) << i;
 }
