@@ -78,8 +78,8 @@ TEST(Feasibility, PaperFigure4ForcedZero) {
 TEST(Feasibility, IncrementalTestsAgreeWithTheFullTest) {
   // Figure 4 (d forced to 0) as patches 0 and 1, and a patch 2 that balances e with itself.
   const uint32_t a = 0, b = 1, d = 2, e = 3;
-  const std::vector<SideRow> base = {{{a, 1}, {b, -1}}, {{e, 1}, {e, -1}},
-                                     {{b, 1}, {a, -1}, {d, -1}}, {{e, 1}, {e, -1}}};
+  const std::vector<SideRow> base = {
+      {{a, 1}, {b, -1}}, {{e, 1}, {e, -1}}, {{b, 1}, {a, -1}, {d, -1}}, {{e, 1}, {e, -1}}};
   FeasibilityLp lp(4, base);
   const SideRow fixed0 = {{b, 1}, {d, 1}, {a, -1}, {e, -1}}, fixed1 = {};
   for (int repeat = 0; repeat < 2; ++repeat) {  // a test leaves the base as it was
