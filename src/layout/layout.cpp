@@ -309,7 +309,8 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
       auto trial = corners;
       trial[p] = all[p][c].items;
       if (std::isfinite(total(trial, 0)) &&
-          total(trial, lower_bound(p, patch_rows(p, all[p][c].items))) < best + 1e-6)
+          (!o.prune_corner_trials ||
+           total(trial, lower_bound(p, patch_rows(p, all[p][c].items))) < best + 1e-6))
         trials.push_back(all[p][c].items);
     }
     tbb::parallel_for(0u, uint32_t(trials.size()), [&](uint32_t k) {

@@ -51,6 +51,9 @@ struct LayoutOptions {
   // singularities for lengths freely (corpus at 1,500 quads: irregular vertices 351 without the
   // refinement, 616 with it); at 2, 458, with fewer folded quads than at 0.5.
   double improve_valence_weight = 2;
+  // Skip refinement trials whose Lagrangian bound shows they cannot win. Exact: off only to
+  // check that the same corners come out.
+  bool prune_corner_trials = true;
   double time_limit = 10;  // seconds per ILP
 };
 
