@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <fstream>
 #include <string>
@@ -35,7 +36,9 @@ int main(int argc, char** argv) {
   std::ifstream list(std::string(ISOQUAD_SOURCE_DIR) + "/bench/corpus.txt");
   for (std::string line; std::getline(list, line);) {
     line = line.substr(0, line.find('#'));
-    line.erase(std::remove_if(line.begin(), line.end(), ::isspace), line.end());
+    line.erase(std::remove_if(line.begin(), line.end(),
+                              [](unsigned char ch) { return std::isspace(ch) != 0; }),
+               line.end());
     if (!line.empty() && (only.empty() || std::find(only.begin(), only.end(), line) != only.end()))
       names.push_back(line);
   }

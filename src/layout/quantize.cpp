@@ -240,11 +240,6 @@ MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& 
 
 }  // namespace
 
-double relaxed_length_objective(const std::vector<double>& c, const std::vector<SideRow>& rows) {
-  const MilpResult r = solve_lp(relaxed_length_problem(c, rows).lp);
-  return r.found() ? r.objective : INFINITY;
-}
-
 Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& rows,
                       double time_limit) {
   const uint32_t n = uint32_t(c.size());

@@ -59,11 +59,6 @@ class FeasibilityLp {
   std::shared_ptr<const IncrementalLp::Basis> base_;
 };
 
-// The LP relaxation of the length program: its optimum (sum d(x_e, c_e) over real x >= 1),
-// or +infinity when the side equations admit no positive lengths.
-double relaxed_length_objective(const std::vector<double>& target,
-                                const std::vector<SideRow>& rows);
-
 // The deviation cost: stretching at slope 1/max(c, 1) above c, and below c the segments of the
 // shrinking cost from c downwards (lengths and slopes, slopes increasing: convex).
 struct CostSegment {
@@ -76,8 +71,7 @@ double length_cost(double x, double c);
 
 // The length program itself: columns x_e (e < n), then per edge its stretch and shrink
 // segments; row e ties x_e to c_e through them, then one row per side equation in the order of
-// `rows` (row side_row(n, k) for rows[k]).
-inline uint32_t side_row(uint32_t num_edges, uint32_t k) { return num_edges + k; }
+// `rows` (row n + k for rows[k]).
 MilpProblem length_problem(const std::vector<double>& target, const std::vector<SideRow>& rows,
                            bool bounded, bool integer);
 
