@@ -92,11 +92,13 @@ uint32_t AabbTree::build(uint32_t begin, uint32_t end) {
 AabbTree::Hit AabbTree::closest(const Vec3& p) const {
   Hit best{INFINITY, 0, {}};
   double best2 = INFINITY;
-  std::vector<uint32_t> stack{0};
-  while (!stack.empty()) {
-    const uint32_t n = stack.back();
-    stack.pop_back();
-    const Node& node = nodes_[n];
+  // Depth-first, nearer child first; the tree is balanced (median splits), so its depth is
+  // about log2(n / 4) and a fixed stack of 128 holds any search.
+  std::array<uint32_t, 128> stack;
+  std::size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
     if (box_distance2(node.box, p) >= best2) continue;
     if (node.leaf) {
       for (uint32_t i = node.left; i < node.right; ++i) {
@@ -114,15 +116,65 @@ AabbTree::Hit AabbTree::closest(const Vec3& p) const {
     const double dr = box_distance2(nodes_[node.right].box, p);
     // Push the farther child first so the nearer one is searched first.
     if (dl <= dr) {
-      stack.push_back(node.right);
-      stack.push_back(node.left);
+      stack[top++] = node.right;
+      stack[top++] = node.left;
     } else {
-      stack.push_back(node.left);
-      stack.push_back(node.right);
+      stack[top++] = node.left;
+      stack[top++] = node.right;
     }
   }
   best.distance = std::sqrt(best2);
   return best;
+}
+
+Vec3 AabbTree::normal_at_closest(const Vec3& p, uint32_t hint) const {
+  // One search for the closest distance d and every triangle within d + tol of p: the bound
+  // shrinks as closer triangles are found, candidates beyond it are dropped at the end.
+  const double tol = 1e-9 * nodes_[0].box.diagonal();
+  double best = INFINITY;
+  if (hint < tris_.size()) {
+    const auto& t = tris_[hint];
+    best = norm(closest_point_on_triangle(p, t[0], t[1], t[2]) - p);
+  }
+  thread_local std::vector<std::pair<double, uint32_t>> near;
+  near.clear();
+  std::array<uint32_t, 128> stack;
+  std::size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    const double bound = best + tol;
+    if (box_distance2(node.box, p) > bound * bound) continue;
+    if (!node.leaf) {
+      stack[top++] = node.right;
+      stack[top++] = node.left;
+      continue;
+    }
+    for (uint32_t i = node.left; i < node.right; ++i) {
+      const auto& t = tris_[order_[i]];
+      const double d = norm(closest_point_on_triangle(p, t[0], t[1], t[2]) - p);
+      if (d > best + tol) continue;
+      best = std::min(best, d);
+      near.push_back({d, order_[i]});
+    }
+  }
+  // In triangle order, so that the sum does not depend on the tree's layout.
+  std::sort(near.begin(), near.end(),
+            [](const auto& a, const auto& b) { return a.second < b.second; });
+  Vec3 sum{0, 0, 0};
+  uint32_t first = kNoTriangle;
+  for (const auto& [d, i] : near) {
+    if (d > best + tol) continue;
+    if (first == kNoTriangle) first = i;
+    const auto& t = tris_[i];
+    const Vec3 n = cross(t[1] - t[0], t[2] - t[0]);
+    const double l = norm(n);
+    if (l > 0) sum = sum + n / l;
+  }
+  const double l = norm(sum);
+  if (l > 0) return sum / l;
+  const auto& t = tris_[first == kNoTriangle ? closest(p).triangle : first];
+  return normalized(cross(t[1] - t[0], t[2] - t[0]));
 }
 
 }  // namespace isoquad

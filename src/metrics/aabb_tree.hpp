@@ -21,6 +21,15 @@ class AabbTree {
   };
   // \pre at least one triangle.
   Hit closest(const Vec3& p) const;
+  // The surface normal at the point closest to p: the mean of the unit normals of every
+  // triangle that point is on (within 1e-9 of the tree's bounding-box diagonal). Where the
+  // closest point is on an edge or a vertex, several triangles are equally close up to
+  // rounding, and taking the first one found made the normal depend on the tree's layout (the
+  // untangler and `isoquad quality` disagreed on quads at ridges).
+  // `hint`, a triangle near p if known, speeds the search up; the result does not depend on it.
+  // \pre at least one triangle.
+  static constexpr uint32_t kNoTriangle = 0xffffffffu;
+  Vec3 normal_at_closest(const Vec3& p, uint32_t hint = kNoTriangle) const;
   const std::vector<std::array<Vec3, 3>>& triangles() const { return tris_; }
 
  private:

@@ -59,8 +59,7 @@ FaceShape face_shape(const PolyMesh& m, std::size_t f, const AabbTree* reference
     s.sj = std::min(s.sj, l > 0 ? dot(n, c) / l : 0.0);
     if (reference) {
       // The normal just inside the corner: at a vertex on a crease, the side the quad lies on.
-      const auto& t = reference->triangles()[reference->closest(p + 0.05 * (e1 + e2)).triangle];
-      const Vec3 rn = normalized(cross(t[1] - t[0], t[2] - t[0]));
+      const Vec3 rn = reference->normal_at_closest(p + 0.05 * (e1 + e2));
       s.sj_surface = std::min(s.sj_surface, l > 0 ? dot(rn, c) / l : 0.0);
     }
     const double angle =

@@ -8,6 +8,7 @@
 #include "extract/untangle.hpp"
 #include "isoquad/error.hpp"
 #include "isoquad/remesh.hpp"
+#include "metrics/aabb_tree.hpp"
 #include "metrics/quality.hpp"
 #include "pipeline/pipeline.hpp"
 #include "pipeline/sizing.hpp"
@@ -209,6 +210,25 @@ TEST(Quality, SurfaceNormalAtCreaseCornersIsTakenOnTheQuadsSide) {
   std::vector<uint32_t> reversed(f0.rbegin(), f0.rend());
   std::copy(reversed.begin(), reversed.end(), flipped.face_vertices.begin());
   EXPECT_LT(surface_scaled_jacobians(flipped, tris)[0], 0.0);
+}
+
+// Where the closest surface point is on an edge (above a ridge) the normal is the mean of the
+// two faces' normals, whichever of them the search meets first; above one face, that face's.
+TEST(Quality, NormalAtAClosestEdgeIsTheMeanOfItsFaces) {
+  // A roof: two faces meeting along the x axis at 90 degrees, both facing up and outwards.
+  const Vec3 a{0, 0, 0}, b{1, 0, 0}, l{0, -1, -1}, r{0, 1, -1}, l2{1, -1, -1}, r2{1, 1, -1};
+  for (int order = 0; order < 2; ++order) {
+    std::vector<std::array<Vec3, 3>> tris = {{a, l, l2}, {a, l2, b}, {a, b, r2}, {a, r2, r}};
+    if (order) std::reverse(tris.begin(), tris.end());
+    const AabbTree tree(tris);
+    const Vec3 up = tree.normal_at_closest({0.5, 0, 0.3});
+    EXPECT_NEAR(up.x, 0, 1e-12);
+    EXPECT_NEAR(up.y, 0, 1e-12);
+    EXPECT_NEAR(up.z, 1, 1e-12);
+    const Vec3 side = tree.normal_at_closest({0.5, 0.5, -0.4});  // above the right face
+    EXPECT_NEAR(side.y, std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(side.z, std::sqrt(0.5), 1e-12);
+  }
 }
 
 TEST(Remesh, EigenEntryPoint) {
