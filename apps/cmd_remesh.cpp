@@ -21,7 +21,7 @@ struct RemeshArgs {
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = true, no_untangle = false,
        split_patches = false;
-  uint32_t smooth = 0;
+  uint32_t smooth = 0, fold_rounds = 2;
   std::vector<double> view;
   int report_width = 1200;
   PrepArgs prep;
@@ -59,6 +59,11 @@ Runner add_remesh(CLI::App& app) {
   sub->add_flag("--no-untangle", a->no_untangle,
                 "Keep the lattice points where the map puts them, even where a quad folds "
                 "against the surface (by default such quads' corners are moved along it)");
+  sub->add_option("--fold-rounds", a->fold_rounds,
+                  "Where quads still fold after untangling, give their patches one more quad "
+                  "across and solve the lengths, map and quads again, at most this often (a round "
+                  "is kept only if fewer quads fold; 0: never)")
+      ->capture_default_str();
   sub->add_option("--report", a->report_dir,
                   "Write pictures (Figures 1 and 3 of the paper), layout.svg, report.json and "
                   "index.html into this folder");
@@ -92,6 +97,7 @@ Runner add_remesh(CLI::App& app) {
     o.repair = a->prep.repair;
     o.smooth = a->smooth;
     o.untangle = !a->no_untangle;
+    o.fold_rounds = a->fold_rounds;
     o.split_patches = a->split_patches;
     o.improve_corners = a->improve_corners;
     o.quality = a->json || !a->report_dir.empty();

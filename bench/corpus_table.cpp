@@ -4,7 +4,7 @@
 // two-sided Hausdorff distance, and the median wall time of the remesh over --repeat runs. The
 // meshes run one after the other (one remesh at a time, so that the times are comparable).
 //
-//   build/release/bench/corpus_table [--quads N] [--repeat R] [--mesh NAME]...
+//   build/release/bench/corpus_table [--quads N] [--repeat R] [--fold-rounds F] [--mesh NAME]...
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -23,11 +23,13 @@
 int main(int argc, char** argv) {
   CLI::App app("Remesh the corpus and print the quality table");
   double quads = 0;
-  uint32_t repeat = 1;
+  uint32_t repeat = 1, fold_rounds = isoquad::RemeshOptions{}.fold_rounds;
   std::vector<std::string> only;
   app.add_option("--quads", quads, "Target quad count (default: each mesh's default size)");
   app.add_option("--repeat", repeat, "Remesh runs per mesh; the time is their median")
       ->check(CLI::Range(1u, 50u))
+      ->capture_default_str();
+  app.add_option("--fold-rounds", fold_rounds, "Rounds of more quads where quads still fold")
       ->capture_default_str();
   app.add_option("--mesh", only, "Only these corpus meshes (file names)");
   CLI11_PARSE(app, argc, argv);
@@ -62,6 +64,7 @@ int main(int argc, char** argv) {
       isoquad::RemeshOptions o;
       o.quads = quads;
       o.quality = false;
+      o.fold_rounds = fold_rounds;
       std::vector<double> seconds;
       isoquad::PolyRemesh result;
       for (uint32_t r = 0; r < repeat; ++r) {

@@ -279,6 +279,9 @@ void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, con
     if (moved == 0) break;
   }
   measure(report.folded_after, report.min_after);
+  report.folded.clear();
+  for (uint32_t f = 0; f < sj.size(); ++f)
+    if (sj[f] <= 0) report.folded.push_back(f);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "extract/extract.hpp"
 #include "layout/meta_mesh.hpp"
@@ -43,6 +44,7 @@ struct UntangleOptions {
 
 struct UntangleReport {
   uint32_t folded_before = 0, folded_after = 0;  // quads with surface scaled Jacobian <= 0
+  std::vector<uint32_t> folded;                  // those left at the end, in order
   double min_before = 1, min_after = 1;          // smallest surface scaled Jacobian
   uint32_t rounds = 0, moves = 0;
   double seconds = 0;

@@ -353,6 +353,52 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
 
 }  // namespace
 
+// The integer lengths at edge length h, or (by_count) at the h, tuned from the one given (up to
+// h_max), whose quad count comes nearest `wanted`; `layout` gets the lengths, targets and h of
+// that solve.
+Lengths tune_lengths(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>& sides,
+                     const std::vector<SideRow>& rows, const std::vector<SideMinimum>& minimums,
+                     bool by_count, double wanted, const LayoutOptions& o, double h, Layout& layout,
+                     LayoutReport& report, double h_max = INFINITY) {
+  // Tune h so that the quad count lands near the request: area scales with 1/h^2.
+  Lengths best;
+  double best_h = h, best_miss = INFINITY;
+  double h_small = 0, h_large = INFINITY;  // bracket: too many quads at h_small, too few at h_large
+  for (int round = 0; round < (by_count ? 8 : 1); ++round) {
+    std::vector<double> c(meta.edges.size());
+    for (uint32_t e = 0; e < c.size(); ++e) c[e] = meta.edges[e].geodesic / h;
+    std::optional<Lengths> flow;
+    if (o.length_solver == LengthSolver::flow && minimums.empty())
+      flow = solve_lengths_flow(c, rows);
+    Lengths l = flow ? *flow : solve_lengths(c, rows, o.time_limit, minimums);
+    ++report.size_rounds;
+    report.length_seconds += l.seconds;
+    layout.length = l.x;
+    build_charts(meta, sides, layout);
+    const double q = double(layout.quads());
+    const double miss = std::fabs(q - wanted) / wanted;
+    if (miss < best_miss) best_miss = miss, best = l, best_h = h;
+    // The count is a step function of h (1,440 or 1,546 quads on fandisk, nothing between), so
+    // 5% is accepted and the search ends once the bracket is too narrow to hold another step.
+    if (!by_count || miss <= 0.05) break;
+    (q > wanted ? h_small : h_large) = h;
+    if (h_small > 0 && h_large < 1.003 * h_small) break;
+    // Area scales with 1/h^2; once both sides are known, bisect (geometrically) inside them.
+    const double next =
+        std::min(h_max, h_small > 0 && h_large < INFINITY ? std::sqrt(h_small * h_large)
+                                                          : h * std::sqrt(q / wanted));
+    if (next == h) break;
+    h = next;
+  }
+  layout.length = best.x;
+  layout.objective = best.objective;
+  layout.edge_length = best_h;
+  layout.target.resize(meta.edges.size());
+  for (uint32_t e = 0; e < meta.edges.size(); ++e)
+    layout.target[e] = meta.edges[e].geodesic / best_h;
+  return best;
+}
+
 Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
                     const EdgeData<char>& feature, MetaMesh& meta, const LayoutOptions& o,
                     LayoutReport& report) {
@@ -413,40 +459,68 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
       h = std::clamp(h, h0 / 4, h0 * 4);
     }
   }
-  // Tune h so that the quad count lands near the request: area scales with 1/h^2.
-  Lengths best;
-  double best_h = h, best_miss = INFINITY;
-  double h_small = 0, h_large = INFINITY;  // bracket: too many quads at h_small, too few at h_large
-  for (int round = 0; round < (by_count ? 8 : 1); ++round) {
-    std::vector<double> c(meta.edges.size());
-    for (uint32_t e = 0; e < c.size(); ++e) c[e] = meta.edges[e].geodesic / h;
-    std::optional<Lengths> flow;
-    if (o.length_solver == LengthSolver::flow) flow = solve_lengths_flow(c, f->rows);
-    Lengths l = flow ? *flow : solve_lengths(c, f->rows, o.time_limit);
-    ++report.size_rounds;
-    report.length_seconds += l.seconds;
-    layout.length = l.x;
-    build_charts(meta, f->sides, layout);
-    const double q = double(layout.quads());
-    const double miss = std::fabs(q - wanted) / wanted;
-    if (miss < best_miss) best_miss = miss, best = l, best_h = h, layout.target = c;
-    // The count is a step function of h (1,440 or 1,546 quads on fandisk, nothing between), so
-    // 5% is accepted and the search ends once the bracket is too narrow to hold another step.
-    if (!by_count || miss <= 0.05) break;
-    (q > wanted ? h_small : h_large) = h;
-    if (h_small > 0 && h_large < 1.003 * h_small) break;
-    // Area scales with 1/h^2; once both sides are known, bisect (geometrically) inside them.
-    h = h_small > 0 && h_large < INFINITY ? std::sqrt(h_small * h_large)
-                                          : h * std::sqrt(q / wanted);
-  }
-  layout.length = best.x;
-  layout.objective = best.objective;
-  layout.edge_length = best_h;
-  for (uint32_t e = 0; e < meta.edges.size(); ++e)
-    layout.target[e] = meta.edges[e].geodesic / best_h;
+  const Lengths best =
+      tune_lengths(meta, f->sides, f->rows, {}, by_count, wanted, o, h, layout, report);
   report.length_solver = best.solver;
   report.length_optimal = best.optimal;
   build_charts(meta, f->sides, layout);
+  check_layout(mesh, labels, meta, layout);
+  return layout;
+}
+
+void thicken_patches(const MetaMesh& meta, const Layout& layout,
+                     const std::vector<uint32_t>& patches, std::vector<SideMinimum>& minimums) {
+  for (const uint32_t p : patches) {
+    const Chart& chart = layout.charts.at(p);
+    const MetaFace& face = meta.faces[p];
+    // Per dimension: the edges of its first side, its length and the targets of both sides.
+    std::vector<uint32_t> edges[2];
+    double target[2] = {0, 0};
+    for (uint32_t i = 0; i < face.cycle.size(); ++i) {
+      const uint8_t side = chart.item_side[i];
+      const uint32_t e = face.cycle[i].edge;
+      if (side < 2) edges[side].push_back(e);
+      target[side % 2] += 0.5 * layout.target[e];
+    }
+    const int64_t length[2] = {chart.width, chart.height};
+    double shrink[2];
+    for (int d = 0; d < 2; ++d) shrink[d] = target[d] / double(length[d]);
+    const int most = shrink[1] > shrink[0] ? 1 : 0;
+    for (int d = 0; d < 2; ++d) {
+      if (d != most && shrink[d] < 1) continue;
+      std::sort(edges[d].begin(), edges[d].end());
+      auto same = std::find_if(minimums.begin(), minimums.end(),
+                               [&](const SideMinimum& m) { return m.edges == edges[d]; });
+      if (same == minimums.end()) {
+        minimums.push_back({edges[d], 0});
+        same = minimums.end() - 1;
+      }
+      same->at_least = std::max(same->at_least, length[d] + 1);
+    }
+  }
+}
+
+std::optional<Layout> relayout_lengths(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                                       const MetaMesh& meta, const Layout& base,
+                                       const std::vector<SideMinimum>& minimums,
+                                       const LayoutOptions& o, LayoutReport& report) {
+  std::vector<std::vector<uint8_t>> sides(base.charts.size());
+  for (uint32_t p = 0; p < sides.size(); ++p) sides[p] = base.charts[p].item_side;
+  const std::vector<SideRow> rows = side_equations(meta, sides);
+  Layout layout;
+  layout.quarter_turns = base.quarter_turns;
+  const bool by_count = o.edge_length <= 0;
+  const double wanted = o.quads > 0 ? o.quads : default_quad_count(mesh);
+  // The held sides add quads; a slightly larger h takes some back elsewhere, but not so much
+  // that the rest of the mesh coarsens (with every patch four-sided on fandisk, an unbounded h
+  // grew 3x in two rounds while the count stayed up).
+  const double h_max = kRelayoutMaxGrowth * base.edge_length;
+  const Lengths l = tune_lengths(meta, sides, rows, minimums, by_count, wanted, o, base.edge_length,
+                                 layout, report, h_max);
+  if (by_count && double(layout.quads()) > kRelayoutMaxQuads * wanted) return std::nullopt;
+  report.length_solver = l.solver;
+  report.length_optimal = l.optimal;
+  build_charts(meta, sides, layout);
   check_layout(mesh, labels, meta, layout);
   return layout;
 }

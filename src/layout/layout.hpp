@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,13 @@ struct LayoutReport {
   bool length_optimal = false;
 };
 
+// A lower bound on one patch side: the sum of x_e over `edges` (an edge listed twice counts
+// twice) is at least `at_least`.
+struct SideMinimum {
+  std::vector<uint32_t> edges;
+  int64_t at_least = 0;
+};
+
 // Chooses corners, tests feasibility and repairs (re-choosing corners with no-good cuts, then
 // inserting meta-vertices on forced-zero meta-edges, which rebuilds `meta`), solves the integer
 // lengths (tuning h to land near options.quads), and builds the charts and transitions.
@@ -74,5 +82,24 @@ struct LayoutReport {
 Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
                     const EdgeData<char>& feature, MetaMesh& meta, const LayoutOptions& options,
                     LayoutReport& report);
+
+// More quads across the given patches (those whose quads folded against the surface: a patch
+// one or two quads across a tip, or squeezed in a strip, has too few lattice lines to follow
+// the surface). For each patch, its dimension (width: sides 0 and 2, height: 1 and 3) shrunk
+// most against its targets, and the other too where it is shrunk as well, is held to one more
+// than now; a minimum already in `minimums` for that side is raised instead of repeated.
+void thicken_patches(const MetaMesh& meta, const Layout& layout,
+                     const std::vector<uint32_t>& patches, std::vector<SideMinimum>& minimums);
+
+// `layout` again with the same corners, its integer lengths re-solved (CBC) with `minimums`
+// held; the charts and transitions follow. When sized by a quad count, the edge length may grow
+// up to kRelayoutMaxGrowth times to stay near the count, and nothing is returned if the count
+// still exceeds the request by a factor kRelayoutMaxQuads.
+// \throw Error(solver, E502) if CBC finds no solution in time.
+constexpr double kRelayoutMaxGrowth = 1.15, kRelayoutMaxQuads = 1.1;
+std::optional<Layout> relayout_lengths(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                                       const MetaMesh& meta, const Layout& layout,
+                                       const std::vector<SideMinimum>& minimums,
+                                       const LayoutOptions& options, LayoutReport& report);
 
 }  // namespace isoquad

@@ -159,7 +159,7 @@ double length_cost(double x, double c) {
 }
 
 MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideRow>& rows,
-                           bool bounded, bool integer) {
+                           bool bounded, bool integer, const std::vector<SideMinimum>& minimums) {
   const uint32_t n = uint32_t(c.size());
   MilpProblem ilp;
   for (uint32_t e = 0; e < n; ++e)  // x_e; the bound keeps the search small, dropped if it bites
@@ -178,6 +178,12 @@ MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideR
     MilpProblem::Row row;
     for (const auto& [e, sign] : r) row.columns.push_back(e), row.values.push_back(sign);
     row.lo = row.hi = 0;
+    ilp.add_row(std::move(row));
+  }
+  for (const SideMinimum& m : minimums) {
+    MilpProblem::Row row;
+    for (const uint32_t e : m.edges) row.columns.push_back(e), row.values.push_back(1);
+    row.lo = double(m.at_least);
     ilp.add_row(std::move(row));
   }
   return ilp;
@@ -234,17 +240,17 @@ std::vector<double> RelaxedLengths::lengths(const std::vector<double>& solution)
 namespace {
 
 MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows,
-                      double time_limit, bool bounded) {
-  return solve_milp(length_problem(c, rows, bounded, true), time_limit);
+                      double time_limit, bool bounded, const std::vector<SideMinimum>& minimums) {
+  return solve_milp(length_problem(c, rows, bounded, true, minimums), time_limit);
 }
 
 }  // namespace
 
 Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& rows,
-                      double time_limit) {
+                      double time_limit, const std::vector<SideMinimum>& minimums) {
   const uint32_t n = uint32_t(c.size());
-  MilpResult res = length_ilp(c, rows, time_limit, true);
-  if (!res.found()) res = length_ilp(c, rows, time_limit, false);
+  MilpResult res = length_ilp(c, rows, time_limit, true, minimums);
+  if (!res.found()) res = length_ilp(c, rows, time_limit, false, minimums);
   if (!res.found())
     throw Error(ErrorKind::solver, "E502",
                 fmt::format("the integer length program found no solution in {} s", time_limit));

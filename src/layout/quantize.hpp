@@ -71,9 +71,10 @@ double length_cost(double x, double c);
 
 // The length program itself: columns x_e (e < n), then per edge its stretch and shrink
 // segments; row e ties x_e to c_e through them, then one row per side equation in the order of
-// `rows` (row n + k for rows[k]).
+// `rows` (row n + k for rows[k]), then one row per side minimum.
 MilpProblem length_problem(const std::vector<double>& target, const std::vector<SideRow>& rows,
-                           bool bounded, bool integer);
+                           bool bounded, bool integer,
+                           const std::vector<SideMinimum>& minimums = {});
 
 // The LP relaxation of the length program with x eliminated: per edge e the columns
 // [first[e], first[e + 1]) are its stretch (coefficient +1) and then its shrink segments (-1), so
@@ -109,6 +110,6 @@ struct Lengths {
 // \pre the system is feasible.
 // \throw Error(solver, E502) if CBC finds no solution in time.
 Lengths solve_lengths(const std::vector<double>& target, const std::vector<SideRow>& rows,
-                      double time_limit);
+                      double time_limit, const std::vector<SideMinimum>& minimums = {});
 
 }  // namespace isoquad

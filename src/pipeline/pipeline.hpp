@@ -30,6 +30,9 @@ struct PipelineOptions {
   ParamOptions param;
   uint32_t smooth = 0;   // tangential smoothing iterations after extraction
   bool untangle = true;  // repair quads folded against the surface (extract/untangle.hpp)
+  // Rounds of more quads across the patches whose quads are still folded after untangling
+  // (layout/layout.hpp thicken_patches); a round is kept only if fewer quads fold.
+  uint32_t fold_rounds = 2;
   // Split every patch into four-sided ones before the layout (seg/quad_split.hpp). Otherwise
   // this happens only when no corner choice or meta-vertex insertion makes the layout feasible.
   bool quad_split = false;
@@ -52,6 +55,7 @@ struct ComponentRun {
   uint32_t subdivisions = 0;
   uint32_t subdivision_retreats = 0;  // levels given up because the finer map did not certify
   bool corners_unrefined = false;     // the refined corners' map did not certify: the ILP's used
+  uint32_t fold_rounds = 0, fold_rounds_kept = 0;  // thickening rounds tried and kept
   SegmentResult seg;
   std::optional<QuadSplitReport> quad_split;  // when the patches were split into quads
   Layout layout;

@@ -32,6 +32,7 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"repair", o.repair},
           {"smooth", o.smooth},
           {"untangle", o.untangle},
+          {"fold_rounds", o.fold_rounds},
           {"split_patches", o.split_patches}};
 }
 
@@ -68,6 +69,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.seed = opt.seed;
   o.smooth = opt.smooth;
   o.untangle = opt.untangle;
+  o.fold_rounds = opt.fold_rounds;
   o.quad_split = opt.split_patches;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
@@ -93,6 +95,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                      {"subdivisions", r.subdivisions},
                      {"subdivision_retreats", r.subdivision_retreats},
                      {"corner_refinement_dropped", r.corners_unrefined},
+                     {"fold_rounds", {{"tried", r.fold_rounds}, {"kept", r.fold_rounds_kept}}},
                      {"patches", r.seg.num_patches},
                      {"meta_vertices", r.seg.meta.vertices.size()},
                      {"meta_vertex_valence", valence},

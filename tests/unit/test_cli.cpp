@@ -211,13 +211,27 @@ TEST(Cli, RemeshUntangleAndSplitSwitches) {
   const auto out = std::filesystem::temp_directory_path() /
                    ("isoquad_cli_switches_" + std::to_string(::getpid()) + ".obj");
   const std::string in = (isoquad::test::data_dir() / "fandisk.off").string();
-  const std::string base = "remesh " + in + " -o " + out.string() + " --quads 600 --json";
+  const std::string base =
+      "remesh " + in + " -o " + out.string() + " --quads 600 --json --fold-rounds 0";
   const CliRun a = run(base);
   ASSERT_EQ(a.status, 0) << a.err;
   const auto ja = nlohmann::json::parse(a.out);
   const auto& ua = ja["components"][0]["untangle"];
   EXPECT_LE(ua["folded_after"].get<int>(), ua["folded_before"].get<int>());
   EXPECT_EQ(ja["quality"]["scaled_jacobian_surface"]["nonpositive"], ua["folded_after"]);
+  EXPECT_EQ(ja["components"][0]["fold_rounds"]["tried"].get<int>(), 0);
+  // With rounds of thicker patches (the default), never more folded quads than without.
+  const CliRun d = run("remesh " + in + " -o " + out.string() + " --quads 600 --json");
+  ASSERT_EQ(d.status, 0) << d.err;
+  const auto jd = nlohmann::json::parse(d.out);
+  const auto& rd = jd["components"][0]["fold_rounds"];
+  EXPECT_LE(rd["kept"].get<int>(), rd["tried"].get<int>());
+  EXPECT_LE(rd["tried"].get<int>(), 2);
+  if (ua["folded_after"].get<int>() == 0) EXPECT_EQ(rd["tried"].get<int>(), 0);
+  EXPECT_LE(jd["quality"]["scaled_jacobian_surface"]["nonpositive"].get<int>(),
+            ua["folded_after"].get<int>());
+  EXPECT_EQ(jd["quality"]["scaled_jacobian_surface"]["nonpositive"],
+            jd["components"][0]["untangle"]["folded_after"]);
   const CliRun b = run(base + " --no-untangle");
   ASSERT_EQ(b.status, 0) << b.err;
   const auto jb = nlohmann::json::parse(b.out);

@@ -183,6 +183,54 @@ TEST(Layout, PlateGetsItsSize) {
   for (int a : l.quarter_turns) EXPECT_EQ(a, 1);  // the plate's corners
 }
 
+// Held patch sides: the plate's width held to 15 gives 15 x 12 (its facing side follows); then
+// thickening the plate grows its least stretched dimension (the height, 12 for 12) by one and
+// keeps the width's minimum.
+TEST(Layout, HeldSidesAreMetExactlyAndThickeningGrowsTheSqueezedSide) {
+  Built b = segmented(test::grid_plate(30, 20), 1);
+  ASSERT_EQ(b.seg.num_patches, 1u);
+  const Box3 box = b.component.mesh.bounding_box();
+  LayoutOptions o;
+  o.edge_length = (box.hi.x - box.lo.x) / 12;
+  LayoutReport report;
+  const Layout l =
+      solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, b.seg.meta, o, report);
+  ASSERT_EQ(l.charts[0].width, 12);
+  ASSERT_EQ(l.charts[0].height, 12);
+  std::vector<SideMinimum> held(1);
+  const MetaFace& face = b.seg.meta.faces[0];
+  for (uint32_t i = 0; i < face.cycle.size(); ++i)
+    if (l.charts[0].item_side[i] == 0) held[0].edges.push_back(face.cycle[i].edge);
+  std::sort(held[0].edges.begin(), held[0].edges.end());
+  held[0].at_least = 15;
+  const std::optional<Layout> wide =
+      relayout_lengths(b.seg.refined.mesh, b.seg.labels, b.seg.meta, l, held, o, report);
+  ASSERT_TRUE(wide.has_value());
+  test::expect_valid_layout(b.seg.meta, *wide);
+  EXPECT_EQ(wide->charts[0].width, 15);
+  EXPECT_EQ(wide->charts[0].height, 12);
+  EXPECT_EQ(wide->edge_length, l.edge_length);
+  EXPECT_NEAR(wide->objective, 2 * 3.0 / 12, 1e-6);  // sides 0 and 2 stretched 12 -> 15
+
+  thicken_patches(b.seg.meta, *wide, {0}, held);
+  ASSERT_EQ(held.size(), 2u);
+  EXPECT_EQ(held[0].at_least, 15);
+  EXPECT_EQ(held[1].at_least, 13);
+  const std::optional<Layout> thick =
+      relayout_lengths(b.seg.refined.mesh, b.seg.labels, b.seg.meta, *wide, held, o, report);
+  ASSERT_TRUE(thick.has_value());
+  test::expect_valid_layout(b.seg.meta, *thick);
+  EXPECT_EQ(thick->charts[0].width, 15);
+  EXPECT_EQ(thick->charts[0].height, 13);
+  // Thickening a patch squeezed in both directions grows both.
+  Layout squeezed = *thick;
+  for (double& c : squeezed.target) c *= 2;
+  std::vector<SideMinimum> both;
+  thicken_patches(b.seg.meta, squeezed, {0}, both);
+  ASSERT_EQ(both.size(), 2u);
+  EXPECT_EQ(both[0].at_least + both[1].at_least, 15 + 1 + 13 + 1);
+}
+
 TEST(Layout, TorusQuadrantsAreRegular) {
   const int nu = 48, nv = 24;
   PreparedMesh p = prepare(test::torus(nu, nv));
