@@ -120,6 +120,9 @@ struct IncrementalLp::Impl {
 IncrementalLp::IncrementalLp(const MilpProblem& p) : impl_(std::make_unique<Impl>()) {
   load(impl_->solver, p);
   impl_->columns = p.objective.size();
+  // Room at the end of each column: set_coefficient on a new entry otherwise reallocates and
+  // copies the whole column-ordered matrix.
+  impl_->solver.getModelPtr()->matrix()->setExtraGap(2.0);
 }
 
 IncrementalLp::~IncrementalLp() = default;
