@@ -126,6 +126,32 @@ TEST(LengthProgram, RelaxationWithoutLengthColumnsHasTheSameOptimum) {
     }
 }
 
+// The integer program prices every integer length as length_cost does (up to one constant per
+// edge), and its relaxation is the chord between the two integers around c instead of the kink
+// at c: with x_e free, the relaxed optimum of a single edge is an integer.
+TEST(LengthProgram, IntegerFormPricesEveryIntegerLikeTheCost) {
+  for (const double c : {0.4, 1.0, 1.7, 2.5, 3.0, 7.3, 12.9, 40.2}) {
+    auto cost_at = [&](double x) {
+      MilpProblem p = length_problem({c}, {}, false, true);
+      p.col_lo[0] = p.col_hi[0] = x;
+      p.integer.assign(p.integer.size(), 0);
+      const MilpResult r = solve_lp(p);
+      EXPECT_TRUE(r.found());
+      return r.objective;
+    };
+    const double base = std::max(1.0, std::floor(c));
+    const double at_base = cost_at(base);
+    for (int x = 1; x < int(3 * c) + 3; ++x)
+      EXPECT_NEAR(cost_at(x) - at_base, length_cost(x, c) - length_cost(base, c), 1e-9)
+          << "c " << c << " x " << x;
+    MilpProblem free = length_problem({c}, {}, false, true);
+    free.integer.assign(free.integer.size(), 0);
+    const MilpResult r = solve_lp(free);
+    ASSERT_TRUE(r.found());
+    EXPECT_NEAR(r.x[0], std::round(r.x[0]), 1e-9) << "c " << c;
+  }
+}
+
 TEST(LengthCost, SymmetricInTheRatioAndConvex) {
   for (const double c : {1.0, 2.5, 7.0, 15.3, 40.0}) {
     EXPECT_EQ(length_cost(c, c), 0.0);
