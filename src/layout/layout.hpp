@@ -63,6 +63,7 @@ struct LayoutReport {
   uint32_t corner_rounds = 0;        // corner ILPs solved (no-good cuts add rounds)
   uint32_t size_rounds = 0;          // length ILPs solved while tuning the size
   double corner_seconds = 0, length_seconds = 0;
+  double refine_seconds = 0;  // the corner refinement's part of corner_seconds
   std::string length_solver;  // "cbc" or "flow"
   bool length_optimal = false;
 };

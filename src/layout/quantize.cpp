@@ -263,7 +263,7 @@ namespace {
 
 MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows,
                       double time_limit, bool bounded, const std::vector<SideMinimum>& minimums) {
-  return solve_milp(length_problem(c, rows, bounded, true, minimums), time_limit);
+  return solve_milp(length_problem(c, rows, bounded, true, minimums), time_limit, 0, 0, false);
 }
 
 }  // namespace
