@@ -227,7 +227,9 @@ TEST(Cli, RemeshUntangleAndSplitSwitches) {
   const auto& rd = jd["components"][0]["fold_rounds"];
   EXPECT_LE(rd["kept"].get<int>(), rd["tried"].get<int>());
   EXPECT_LE(rd["tried"].get<int>(), 2);
-  if (ua["folded_after"].get<int>() == 0) EXPECT_EQ(rd["tried"].get<int>(), 0);
+  if (ua["folded_after"].get<int>() == 0) {
+    EXPECT_EQ(rd["tried"].get<int>(), 0);
+  }
   EXPECT_LE(jd["quality"]["scaled_jacobian_surface"]["nonpositive"].get<int>(),
             ua["folded_after"].get<int>());
   EXPECT_EQ(jd["quality"]["scaled_jacobian_surface"]["nonpositive"],
