@@ -116,10 +116,12 @@ struct Untangler {
   };
   // `opposite` holds, per quad at v, the value of its corner opposite v: moving v does not change
   // it (its edges do not end at v), so a trial needs only the other three.
-  Local local_quality(uint32_t v, double cap,
-                      const std::vector<std::pair<int, double>>& opposite) const {
+  // It stops once the sum reaches `stop`: terms are not negative, so such a trial cannot be
+  // better than one at `stop` (the decisions are the same as with the whole sum).
+  Local local_quality(uint32_t v, double cap, const std::vector<std::pair<int, double>>& opposite,
+                      double stop = INFINITY) const {
     Local l;
-    for (std::size_t i = 0; i < around[v].size(); ++i)
+    for (std::size_t i = 0; i < around[v].size() && l.shortfall < stop; ++i)
       for (const double s : corner_sj(around[v][i], opposite[i].first, opposite[i].second))
         if (s < cap) l.shortfall += (cap - s) * (cap - s);
     return l;
@@ -174,7 +176,7 @@ struct Untangler {
       }
       qm.positions[v] = position_of(base, s);
       qm.surface[v] = s;
-      const Local q = local_quality(v, cap, opposite);
+      const Local q = local_quality(v, cap, opposite, best_q.shortfall - 1e-12);
       if (better(q, best_q)) best_q = q, best = s, best_p = qm.positions[v];
     };
     if (const Polyline* line = slide[v]) {
@@ -261,6 +263,9 @@ void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, con
     }
   };
   measure(report.folded_before, report.min_before);
+  // Move clock: when each vertex last moved, and when its last attempt found nothing (0: never).
+  uint64_t clock = 0, round_start = 0;
+  std::vector<uint64_t> moved_at(n, 0), failed_at(n, 0);
   for (uint32_t round = 0; round < o.max_rounds; ++round) {
     std::vector<uint32_t> active;
     for (uint32_t f = 0; f < sj.size(); ++f)
@@ -272,10 +277,31 @@ void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, con
     if (active.empty()) break;
     ++report.rounds;
     uint32_t moved = 0;
-    for (const uint32_t v : active) moved += u.improve(v, o.target);
+    for (const uint32_t v : active) {
+      // A move depends only on the quads around v: if none of their corners moved since v
+      // last found no better place, it would find none again.
+      if (failed_at[v] > 0) {
+        bool changed = false;
+        for (const uint32_t f : u.around[v])
+          for (const uint32_t w : qm.quads[f]) changed |= moved_at[w] > failed_at[v];
+        if (!changed) continue;
+      }
+      ++clock;
+      if (u.improve(v, o.target)) {
+        ++moved;
+        moved_at[v] = clock;
+        failed_at[v] = 0;
+      } else {
+        failed_at[v] = clock;
+      }
+    }
     report.moves += moved;
     for (const uint32_t v : active)
-      for (const uint32_t f : u.around[v]) sj[f] = u.quad_sj(f);
+      for (const uint32_t f : u.around[v])
+        if (std::any_of(qm.quads[f].begin(), qm.quads[f].end(),
+                        [&](uint32_t w) { return moved_at[w] > round_start; }))
+          sj[f] = u.quad_sj(f);
+    round_start = clock;
     if (moved == 0) break;
   }
   measure(report.folded_after, report.min_after);
