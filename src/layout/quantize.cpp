@@ -165,32 +165,25 @@ MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideR
   for (uint32_t e = 0; e < n; ++e)  // x_e; the bound keeps the search small, dropped if it bites
     ilp.add_column(0, 1, bounded ? std::max(4 * c[e], c[e] + 20) : MilpProblem::kInf, integer);
   for (uint32_t e = 0; e < n; ++e) {
-    std::vector<CostSegment> shrink = shrink_segments(c[e]);
+    // x_e - stretch + sum shrink_j = c_e. For integer lengths the breakpoint at c_e is replaced
+    // by floor(c_e) and floor(c_e) + 1, which prices every integer the same:
+    // x_e - up - stretch + sum shrink_j = floor(c_e), the first unit up priced at
+    // d(floor + 1) - d(floor), and the shrink segments from floor(c_e) down. The relaxation is
+    // then tight between the two integers around c_e (the chord instead of the kink at c_e), and
+    // CBC needs fewer cuts and nodes.
+    const std::vector<CostSegment> shrink = shrink_segments(c[e]);
     const double base = std::floor(c[e]);
-    if (!integer || c[e] <= 1 || base == c[e] || shrink.empty()) {
-      // x_e - stretch + sum shrink_j = c_e
-      MilpProblem::Row row{{e}, {1}, c[e], c[e]};
-      row.columns.push_back(ilp.add_column(stretch_slope(c[e]), 0, MilpProblem::kInf, false));
+    const bool chord = integer && c[e] > 1 && base != c[e] && !shrink.empty();
+    const double rhs = chord ? base : c[e];
+    MilpProblem::Row row{{e}, {1}, rhs, rhs};
+    if (chord) {
+      row.columns.push_back(
+          ilp.add_column(length_cost(base + 1, c[e]) - length_cost(base, c[e]), 0, 1, false));
       row.values.push_back(-1);
-      for (const CostSegment& s : shrink) {
-        row.columns.push_back(ilp.add_column(s.slope, 0, s.length, false));
-        row.values.push_back(1);
-      }
-      ilp.add_row(std::move(row));
-      continue;
     }
-    // For integer lengths the same costs at every integer, with the breakpoint at c_e replaced
-    // by floor(c_e) and floor(c_e) + 1: x_e - up - stretch + sum shrink_j = floor(c_e), the
-    // first unit up priced at d(floor + 1) - d(floor). The relaxation is then tight between
-    // the two integers around c_e (the chord instead of the kink at c_e), and CBC needs fewer
-    // cuts and nodes.
-    MilpProblem::Row row{{e}, {1}, base, base};
-    const double up = length_cost(base + 1, c[e]) - length_cost(base, c[e]);
-    row.columns.push_back(ilp.add_column(up, 0, 1, false));
-    row.values.push_back(-1);
     row.columns.push_back(ilp.add_column(stretch_slope(c[e]), 0, MilpProblem::kInf, false));
     row.values.push_back(-1);
-    for (std::size_t k = 1; k < shrink.size(); ++k) {  // shrink[0] runs from c_e to floor(c_e)
+    for (std::size_t k = chord ? 1 : 0; k < shrink.size(); ++k) {  // shrink[0]: c_e to floor
       row.columns.push_back(ilp.add_column(shrink[k].slope, 0, shrink[k].length, false));
       row.values.push_back(1);
     }

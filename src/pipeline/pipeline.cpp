@@ -116,69 +116,49 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
   param_and_extract();
   if (o.last == Stage::param || !o.untangle) return;
 
-  // Quads still folded after untangling: give their patches more quads across and solve again.
-  // Each round thickens the patches folded in the last one, while rounds help; the run with the
-  // fewest folded quads is kept (the first of equals).
-  struct Outcome {
-    Layout layout;
-    LayoutReport layout_report;
-    Param param;
-    ParamReport param_report;
-    QuadMesh quads;
-    ExtractReport extract_report;
-    SmoothReport smooth_report;
-    UntangleReport untangle_report;
-  };
-  auto take = [&] {
-    return Outcome{run.layout, run.layout_report,  run.param,         run.param_report,
-                   run.quads,  run.extract_report, run.smooth_report, run.untangle_report};
-  };
-  std::optional<Outcome> best;
-  uint32_t best_round = 0;
+  // Quads still folded after untangling: give their patches more quads across and solve again,
+  // while a round leaves fewer folded quads. A round that does not is undone and is the last: on
+  // the corpus at 1,500 quads no round after one had helped (fandisk, mech-holes-shark and the
+  // double torus spent a second map on nothing).
   std::vector<SideMinimum> minimums;
-  bool failed = false;  // a round's map did not certify: the state is half replaced
-  for (uint32_t round = 0; round < o.fold_rounds && !run.untangle_report.folded.empty(); ++round) {
-    if (!best || run.untangle_report.folded.size() < best->untangle_report.folded.size()) {
-      best = take();
-      best_round = round;
-    }
+  while (run.fold_rounds < o.fold_rounds && !run.untangle_report.folded.empty()) {
     std::vector<uint32_t> patches;
     for (const uint32_t q : run.untangle_report.folded) patches.push_back(run.quads.quad_patch[q]);
     std::sort(patches.begin(), patches.end());
     patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
     thicken_patches(run.seg.meta, run.layout, patches, minimums);
+    ComponentRun before = run;
+    // Undoes the round but keeps its time and count.
+    auto undo = [&] {
+      before.layout_seconds = run.layout_seconds;
+      before.param_seconds = run.param_seconds;
+      before.extract_seconds = run.extract_seconds;
+      before.fold_rounds = run.fold_rounds;
+      run = std::move(before);
+    };
+    ++run.fold_rounds;
     try {
       t0 = Clock::now();
       std::optional<Layout> thicker =
           relayout_lengths(run.seg.refined.mesh, run.seg.labels, run.seg.meta, run.layout, minimums,
                            lo, run.layout_report);
       run.layout_seconds += seconds_since(t0);
-      if (!thicker) break;  // too many quads: the state is still the last round's
+      if (!thicker) {  // too many quads
+        undo();
+        break;
+      }
       run.layout = std::move(*thicker);
       param_and_extract();
     } catch (const Error& e) {
       if (e.code() != "E553" && e.code() != "E502") throw;
-      failed = true;
+      undo();
       break;
     }
-    ++run.fold_rounds;
-    // A round that does not help is the last: on the corpus at 1,500 quads no round after one
-    // had helped (fandisk, mech-holes-shark and the double torus spent a second map on nothing).
-    if (run.untangle_report.folded.size() >= best->untangle_report.folded.size()) break;
-  }
-  if (best &&
-      (failed || run.untangle_report.folded.size() >= best->untangle_report.folded.size())) {
-    run.layout = std::move(best->layout);
-    run.layout_report = std::move(best->layout_report);
-    run.param = std::move(best->param);
-    run.param_report = std::move(best->param_report);
-    run.quads = std::move(best->quads);
-    run.extract_report = std::move(best->extract_report);
-    run.smooth_report = std::move(best->smooth_report);
-    run.untangle_report = std::move(best->untangle_report);
-    run.fold_rounds_kept = best_round;
-  } else {
-    run.fold_rounds_kept = run.fold_rounds;
+    if (run.untangle_report.folded.size() >= before.untangle_report.folded.size()) {
+      undo();
+      break;
+    }
+    ++run.fold_rounds_kept;
   }
 }
 
