@@ -26,6 +26,8 @@ struct QuadMesh {
   std::vector<uint32_t> vertex_meta_edge;    // per vertex: meta-edge it lies on, or kInvalid
   enum class Placed : uint8_t { meta, direct, across, locked };
   std::vector<Placed> placed;  // how each vertex was located
+  // Where the first untangling found each vertex; later rounds keep their bounds from there.
+  std::vector<Vec3> mapped;
 };
 
 struct ExtractReport {

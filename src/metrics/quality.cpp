@@ -109,6 +109,8 @@ void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTr
   }
 }
 
+}  // namespace
+
 Topology topology_of(const PolyMesh& m, bool* edge_manifold, bool* vertex_manifold, bool* oriented,
                      std::vector<uint32_t>* boundary_vertex_flag,
                      std::vector<uint32_t>* corner_count) {
@@ -193,8 +195,6 @@ Topology topology_of(const PolyMesh& m, bool* edge_manifold, bool* vertex_manifo
   if (corner_count) *corner_count = count;
   return t;
 }
-
-}  // namespace
 
 QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
                               const QualityOptions& options) {

@@ -48,6 +48,13 @@ struct QualityOptions {
   uint64_t seed = 1;
 };
 
+// Euler characteristic, components and boundary loops; optionally whether every edge has one or
+// two faces, every vertex one fan of corners, the faces a consistent orientation, which vertices
+// are on the boundary and how many corners each vertex has.
+Topology topology_of(const PolyMesh& m, bool* edge_manifold, bool* vertex_manifold, bool* oriented,
+                     std::vector<uint32_t>* boundary_vertex_flag,
+                     std::vector<uint32_t>* corner_count);
+
 // \pre quads has at least one face. `reference` (triangles or polygons) enables topology
 // comparison, surface-normal Jacobians and distances.
 QualityReport measure_quality(const PolyMesh& quads, const PolyMesh* reference,

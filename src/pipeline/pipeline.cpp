@@ -106,15 +106,19 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
     if (o.untangle) {
       UntangleOptions uo;
       uo.edge_length = run.layout.edge_length;
+      uo.collapse_rounds = 0;  // once, at the end: a fold round may still remove the fold
       untangle_quads(run.quads, surface, run.seg.refined.mesh, run.seg.meta, uo,
                      run.untangle_report);
     }
-    if (run.subdivisions > 0)
-      for (SurfacePoint& p : run.quads.surface) p = to_component(run.surface, p);
     run.extract_seconds += seconds_since(t);
   };
+  // Surface points on the subdivided surface, expressed in the component.
+  auto to_component_points = [&] {
+    if (run.subdivisions > 0 && o.last != Stage::param)
+      for (SurfacePoint& p : run.quads.surface) p = to_component(run.surface, p);
+  };
   param_and_extract();
-  if (o.last == Stage::param || !o.untangle) return;
+  if (o.last == Stage::param || !o.untangle) return to_component_points();
 
   // Quads still folded after untangling: give their patches more quads across and solve again,
   // while a round leaves fewer folded quads. A round that does not is undone and is the last: on
@@ -160,6 +164,30 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
     }
     ++run.fold_rounds_kept;
   }
+
+  // What folds are left go by diagonal collapses (extract/collapse.hpp). Last, because a
+  // collapse can cut a little off the surface where a thicker patch would not: at 1,500 quads,
+  // collapsing before the fold rounds left the elephant and the anchor with a fold each that
+  // their rounds had removed.
+  if (!run.untangle_report.folded.empty()) {
+    const auto t = Clock::now();
+    UntangleOptions uo;
+    uo.edge_length = run.layout.edge_length;
+    UntangleReport last;
+    untangle_quads(run.quads, surface, run.seg.refined.mesh, run.seg.meta, uo, last);
+    UntangleReport& r = run.untangle_report;
+    r.folded_after = last.folded_after;
+    r.folded = std::move(last.folded);
+    r.min_after = last.min_after;
+    r.rounds += last.rounds;
+    r.moves += last.moves;
+    r.collapsed = last.collapsed;
+    r.doublets = last.doublets;
+    r.refused = last.refused;
+    r.seconds += last.seconds;
+    run.extract_seconds += seconds_since(t);
+  }
+  to_component_points();
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 
+#include "extract/collapse.hpp"
 #include "extract/extract.hpp"
 #include "extract/surface_walk.hpp"
 #include "extract/untangle.hpp"
@@ -342,6 +343,135 @@ TEST(Untangle, UndoesFoldsAgainstTheSurface) {
     EXPECT_EQ(q.positions[v], again.positions[v]);
     EXPECT_LE(norm(q.positions[v] - start.positions[v]), uo.reach * uo.edge_length);
   }
+}
+
+namespace {
+
+// An n x n grid of unit squares in the plane z = 0, vertex (i, j) at index j (n + 1) + i, quad
+// (i, j) at index j n + i with corners (i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1).
+QuadMesh grid_quads(uint32_t n) {
+  QuadMesh q;
+  for (uint32_t j = 0; j <= n; ++j)
+    for (uint32_t i = 0; i <= n; ++i) q.positions.push_back({double(i), double(j), 0});
+  const uint32_t nv = uint32_t(q.positions.size());
+  q.surface.assign(nv, SurfacePoint{});
+  q.vertex_meta_vertex.assign(nv, kInvalid);
+  q.vertex_meta_edge.assign(nv, kInvalid);
+  q.placed.assign(nv, QuadMesh::Placed::direct);
+  for (uint32_t j = 0; j < n; ++j)
+    for (uint32_t i = 0; i < n; ++i) {
+      const uint32_t v = j * (n + 1) + i;
+      q.quads.push_back({v, v + 1, v + n + 2, v + n + 1});
+      q.quad_patch.push_back(0);
+    }
+  return q;
+}
+
+PolyMesh as_poly(const QuadMesh& q) {
+  PolyMesh p;
+  p.positions = q.positions;
+  for (const auto& f : q.quads) p.add_face({f[0], f[1], f[2], f[3]});
+  return p;
+}
+
+// Inner vertices of grid_quads(n) may move, boundary ones not.
+std::vector<char> inner_vertices(uint32_t n) {
+  std::vector<char> m((n + 1) * (n + 1), 0);
+  for (uint32_t j = 1; j < n; ++j)
+    for (uint32_t i = 1; i < n; ++i) m[j * (n + 1) + i] = 1;
+  return m;
+}
+
+void expect_same_manifold(const QuadMesh& after, const QuadMesh& before) {
+  bool em = false, vm = false, ori = false;
+  const Topology t = topology_of(as_poly(after), &em, &vm, &ori, nullptr, nullptr);
+  const Topology t0 = topology_of(as_poly(before), nullptr, nullptr, nullptr, nullptr, nullptr);
+  EXPECT_TRUE(em);
+  EXPECT_TRUE(vm);
+  EXPECT_TRUE(ori);
+  EXPECT_EQ(t.euler, t0.euler);
+  EXPECT_EQ(t.components, t0.components);
+  EXPECT_EQ(t.boundary_loops, t0.boundary_loops);
+  EXPECT_EQ(after.quad_patch.size(), after.quads.size());
+  EXPECT_EQ(after.surface.size(), after.positions.size());
+  EXPECT_EQ(after.vertex_meta_vertex.size(), after.positions.size());
+  std::vector<char> used(after.positions.size(), 0);
+  for (const auto& f : after.quads)
+    for (const uint32_t v : f) used[v] = 1;
+  EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);  // no vertex left over
+}
+
+}  // namespace
+
+TEST(Collapse, RemovesAQuadByItsDiagonalAndKeepsAManifoldOfTheSameTopology) {
+  const QuadMesh start = grid_quads(4);  // 25 vertices, 16 quads
+  QuadMesh q = start;
+  std::vector<char> movable = inner_vertices(4);
+  CollapseReport r;
+  // Quad (1, 1): corners 6 (1,1), 7, 12 (2,2), 11; its worst corner 6 goes to 12.
+  collapse_diagonals(q, movable, {{5, 0}}, 0.5, r);
+  EXPECT_EQ(r.collapsed, 1u);
+  EXPECT_EQ(r.doublets, 0u);
+  EXPECT_EQ(r.refused, 0u);
+  EXPECT_EQ(q.quads.size(), 15u);
+  EXPECT_EQ(q.positions.size(), 24u);
+  EXPECT_EQ(movable.size(), 24u);
+  expect_same_manifold(q, start);
+  auto has_vertex_at = [&](const QuadMesh& m, Vec3 p) {
+    return std::any_of(m.positions.begin(), m.positions.end(),
+                       [&](const Vec3& x) { return norm(x - p) < 1e-12; });
+  };
+  EXPECT_FALSE(has_vertex_at(q, {1, 1, 0}));
+  EXPECT_TRUE(has_vertex_at(q, {2, 2, 0}));
+
+  // (2, 1) now has three quads; merging (3, 1) into the boundary vertex (2, 0) across quad
+  // (2, 0) leaves it with two, a doublet, which is dissolved: two more quads go.
+  const QuadMesh once = q;
+  const auto index_at = [&](Vec3 p) {
+    for (uint32_t v = 0; v < q.positions.size(); ++v)
+      if (norm(q.positions[v] - p) < 1e-12) return v;
+    return kInvalid;
+  };
+  const uint32_t a = index_at({2, 0, 0}), c = index_at({3, 1, 0});
+  uint32_t quad = kInvalid;
+  int corner = -1;
+  for (uint32_t f = 0; f < q.quads.size(); ++f)
+    for (int k = 0; k < 4; ++k)
+      if (q.quads[f][k] == c && q.quads[f][(k + 2) % 4] == a) quad = f, corner = k;
+  ASSERT_NE(quad, kInvalid);
+  CollapseReport r2;
+  collapse_diagonals(q, movable, {{quad, corner}}, 0.5, r2);
+  EXPECT_EQ(r2.collapsed, 1u);
+  EXPECT_EQ(r2.doublets, 1u);
+  EXPECT_EQ(q.quads.size(), 13u);
+  EXPECT_EQ(q.positions.size(), 22u);
+  expect_same_manifold(q, once);
+  EXPECT_FALSE(has_vertex_at(q, {2, 1, 0}));
+}
+
+TEST(Collapse, RefusesDiagonalsBetweenFixedCornersAndOnesThatCutOffATip) {
+  const QuadMesh start = grid_quads(4);
+  QuadMesh q = start;
+  std::vector<char> fixed(25, 0);
+  CollapseReport r;
+  collapse_diagonals(q, fixed, {{5, 0}}, 0.5, r);
+  EXPECT_EQ(r.collapsed, 0u);
+  EXPECT_EQ(r.refused, 1u);
+  EXPECT_EQ(q.quads, start.quads);
+
+  // Only the tip (1, 1, 2) may move; merging it away would leave it 2 above the new quads.
+  q.positions[6].z = 2;
+  std::vector<char> tip(25, 0);
+  tip[6] = 1;
+  CollapseReport r2;
+  collapse_diagonals(q, tip, {{5, 0}}, 0.5, r2);
+  EXPECT_EQ(r2.collapsed, 0u);
+  EXPECT_EQ(r2.refused, 1u);
+  EXPECT_EQ(q.quads.size(), 16u);
+  CollapseReport r3;
+  collapse_diagonals(q, tip, {{5, 0}}, 3.0, r3);  // a looser bound lets it go
+  EXPECT_EQ(r3.collapsed, 1u);
+  EXPECT_EQ(q.quads.size(), 15u);
 }
 
 TEST(Pipeline, CoarseComponentsAreSubdividedWithExactProvenance) {
