@@ -62,7 +62,9 @@ Runner add_remesh(CLI::App& app) {
   sub->add_option("--fold-rounds", a->fold_rounds,
                   "Where quads still fold after untangling, give their patches one more quad "
                   "across and solve the lengths, map and quads again, at most this often (a round "
-                  "is kept only if fewer quads fold; 0: never)")
+                  "is kept only if fewer quads fold; 0: never). If quads still fold after those "
+                  "rounds and the diagonal collapses, the corners are chosen once more, avoiding "
+                  "patch corners at flat places (not with 0)")
       ->capture_default_str();
   sub->add_option("--report", a->report_dir,
                   "Write pictures (Figures 1 and 3 of the paper), layout.svg, report.json and "

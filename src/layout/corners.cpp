@@ -39,7 +39,8 @@ int regular_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, uint32_t mv
 std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
                                                             const FaceData<uint32_t>& labels,
                                                             const MetaMesh& meta, double beta,
-                                                            uint32_t keep, double unit) {
+                                                            uint32_t keep, double unit,
+                                                            double flat_corner) {
   std::vector<std::vector<CornerCandidate>> out(meta.faces.size());
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     const MetaFace& f = meta.faces[p];
@@ -88,6 +89,7 @@ std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
             for (uint32_t i = 0; i < m; ++i) {
               const bool corner = std::find(it.begin(), it.end(), i) != it.end();
               e_ang += std::pow((theta[i] - (corner ? kPi / 2 : kPi)) / (kPi / 2), 2);
+              if (corner && theta[i] > 5 * kPi / 6) e_ang += flat_corner;
             }
             cands.push_back({it, e_len + beta * e_ang});
           }

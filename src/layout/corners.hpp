@@ -30,12 +30,11 @@ struct CornerChoice {
 // settling them alone costs the length program (quantize.hpp, 2 (sqrt(max/min) - 1)):
 // unbounded, so that a side of a tenth of a unit never faces one of forty, yet light enough to
 // leave room to the angle and valence terms; with unit == 0 the paper's scale-free
-// ((a - b)/(a + b))^2.
-std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
-                                                            const FaceData<uint32_t>& labels,
-                                                            const MetaMesh& meta,
-                                                            double angle_weight, uint32_t keep,
-                                                            double unit = 0);
+// ((a - b)/(a + b))^2. `flat_corner` is added to the angle term for each corner at a surface
+// angle above 150 degrees, where the quad at the corner must open to that angle.
+std::vector<std::vector<CornerCandidate>> corner_candidates(
+    const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
+    double angle_weight, uint32_t keep, double unit = 0, double flat_corner = 0);
 
 // Picks one candidate per patch. With `require_feasible`, the ILP also carries continuous
 // meta-edge lengths in [1, 100] and, for the chosen candidate of each patch only (big-M), its

@@ -42,6 +42,10 @@ struct LayoutOptions {
   LengthSolver length_solver = LengthSolver::cbc;
   double angle_weight = 0.5;    // beta in the corner cost (0: paper's length-only cost)
   double valence_weight = 0.5;  // mu: penalty per quarter turn of singularity
+  // Added to the angle term (before beta) for a patch corner at a surface angle above 150
+  // degrees. 0 by default: the remesh pipeline sets it when it re-chooses the corners of a
+  // mesh whose quads still fold (pipeline.cpp).
+  double flat_corner_penalty = 0;
   uint32_t candidates_per_patch = 8;
   // Improve the corners patch by patch against the LP relaxation of the length program: about
   // half the length objective on organic and CAD meshes (corpus at 1,500 quads: quads folded

@@ -312,6 +312,46 @@ TEST(Corners, LocalModeIsThePapersChoice) {
   for (int a : global.quarter_turns) EXPECT_GE(a, 3);
 }
 
+// A patch corner above 150 degrees costs `flat_corner` more on the angle term (times beta), and
+// the corner ILP then takes fewer of them. On a plate cut into patches, the T-junctions on the
+// straight outer boundary are flat corners for the patches on either side.
+TEST(Corners, FlatCornerPenaltyPricesCornersAboveOneHundredFiftyDegrees) {
+  Built b = segmented(test::grid_plate(24, 24), 10);
+  const TriMesh& mesh = b.seg.refined.mesh;
+  const double beta = 0.5, price = 2;
+  const auto plain = corner_candidates(mesh, b.seg.labels, b.seg.meta, beta, 0, 0, 0);
+  const auto priced = corner_candidates(mesh, b.seg.labels, b.seg.meta, beta, 0, 0, price);
+  ASSERT_EQ(plain.size(), priced.size());
+  // Flat corners of each candidate, from the cost difference (keep = 0: every candidate, in
+  // cost order, so they are matched by their items).
+  std::vector<std::map<std::array<uint32_t, 4>, int>> flat(plain.size());
+  uint32_t priced_candidates = 0;
+  for (uint32_t p = 0; p < plain.size(); ++p) {
+    ASSERT_EQ(plain[p].size(), priced[p].size());
+    std::map<std::array<uint32_t, 4>, double> cost;
+    for (const CornerCandidate& c : plain[p]) cost[c.items] = c.cost;
+    for (const CornerCandidate& c : priced[p]) {
+      ASSERT_TRUE(cost.count(c.items));
+      const double steps = (c.cost - cost[c.items]) / (beta * price);
+      EXPECT_NEAR(steps, std::round(steps), 1e-9);
+      EXPECT_GE(steps, -1e-9);
+      EXPECT_LE(steps, 4 + 1e-9);
+      flat[p][c.items] = int(std::lround(steps));
+      priced_candidates += steps > 0.5;
+    }
+  }
+  EXPECT_GT(priced_candidates, 0u);
+  auto flat_corners = [&](const auto& cands, const LayoutOptions& o) {
+    const CornerChoice ch = choose_corners(mesh, b.seg.meta, cands, o);
+    int n = 0;
+    for (uint32_t p = 0; p < cands.size(); ++p) n += flat[p].at(cands[p][ch.chosen[p]].items);
+    return n;
+  };
+  const int with = flat_corners(priced, LayoutOptions{}),
+            without = flat_corners(plain, LayoutOptions{});
+  EXPECT_LT(with, without);  // 1 against 2
+}
+
 namespace {
 // Facing-side equations of a real segmentation with its chosen corners.
 std::vector<SideRow> rows_of(const SegmentResult& seg, const TriMesh& mesh) {
