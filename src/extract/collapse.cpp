@@ -11,6 +11,7 @@ namespace isoquad {
 namespace {
 
 using Quad = std::array<uint32_t, 4>;
+constexpr std::size_t kMaxValence = 6;
 
 int corner_of(const Quad& q, uint32_t v) {
   for (int k = 0; k < 4; ++k)
@@ -113,6 +114,9 @@ struct Collapser {
     if (std::binary_search(ns.begin(), ns.end(), r)) return std::nullopt;
     for (const uint32_t w : ns)
       if (w != b && w != d && std::binary_search(nr.begin(), nr.end(), w)) return std::nullopt;
+    // The merged corner keeps a valence of 6 at most: collapses stacking up at one vertex gave
+    // the cow valences of 10, with 36-degree quad corners around them.
+    if (ns.size() + nr.size() - 2 > kMaxValence) return std::nullopt;
     // Each merged edge keeps a quad: s-b and r-b are not both on the boundary.
     for (const uint32_t x : {b, d})
       if (edge_faces(qs, s, x) + edge_faces(qr, r, x) < 3) return std::nullopt;

@@ -30,7 +30,8 @@ struct CollapseReport {
 // else the other. A diagonal is allowed when at least one end may move (`movable`); the other
 // end stays where it is (of two movable ends, the worst corner goes). It must keep the mesh
 // manifold: the ends share no face but the quad and no neighbour but its two other corners,
-// and the merged edges keep at least one face each. The removed corner must lie within
+// and the merged edges keep at least one face each; the merged corner's valence stays at 6 or
+// below. The removed corner must lie within
 // `max_offset` of the quads that take its place (and a dissolved doublet's vertex within it of
 // the merged quad), so that no tip of the surface is cut off. Requests whose neighbourhoods overlap
 // one already served wait for the next call. Deleted quads and vertices are removed; `movable` is
