@@ -92,6 +92,7 @@ struct Collapser {
     std::vector<std::pair<uint32_t, Quad>> rewrite;  // quad -> new corners
     std::vector<uint32_t> drop_quads, drop_vertices;
     uint32_t doublets = 0;
+    uint32_t survivor = kInvalid;
   };
 
   // The edit that merges r into s across quad q, or nothing if it would break the mesh.
@@ -122,6 +123,7 @@ struct Collapser {
       if (edge_faces(qs, s, x) + edge_faces(qr, r, x) < 3) return std::nullopt;
 
     Edit edit;
+    edit.survivor = s;
     edit.drop_quads.push_back(q);
     edit.drop_vertices.push_back(r);
     for (const uint32_t f : fr) {
@@ -215,6 +217,7 @@ struct Collapser {
     keep(qm.vertex_meta_edge);
     keep(qm.placed);
     if (qm.mapped.size() == index.size()) keep(qm.mapped);
+    keep(qm.merged);
     keep(movable);
     uint32_t out = 0;
     for (uint32_t f = 0; f < qm.quads.size(); ++f) {
@@ -235,6 +238,7 @@ struct Collapser {
 void collapse_diagonals(QuadMesh& qm, std::vector<char>& movable,
                         const std::vector<CollapseRequest>& requests, double max_offset,
                         CollapseReport& report) {
+  qm.merged.resize(qm.positions.size(), 0);
   Collapser c(qm, movable, max_offset);
   for (const CollapseRequest& req : requests) {
     const std::vector<uint32_t> near = c.reach(req.quad);
@@ -253,6 +257,7 @@ void collapse_diagonals(QuadMesh& qm, std::vector<char>& movable,
       continue;
     }
     c.apply(*edit);
+    qm.merged[edit->survivor] = 1;
     for (const uint32_t v : near) c.touched[v] = 1;
     ++report.collapsed;
     report.doublets += edit->doublets;

@@ -28,6 +28,9 @@ struct QuadMesh {
   std::vector<Placed> placed;  // how each vertex was located
   // Where the first untangling found each vertex; later rounds keep their bounds from there.
   std::vector<Vec3> mapped;
+  // Per vertex: a diagonal collapse merged another corner into it (extract/collapse.hpp). The
+  // untangler holds it to covering its point like a singularity.
+  std::vector<char> merged;
 };
 
 struct ExtractReport {

@@ -167,7 +167,8 @@ struct Untangler {
     auto trial = [&](const Vec3& x) {
       const SurfacePoint s = project_locally(base, s0.face, x);
       if (squared_norm(position_of(base, s) - origin[v]) > reach * reach) return;
-      if (qm.vertex_meta_vertex[v] != kInvalid || slide[v]) {
+      if (qm.vertex_meta_vertex[v] != kInvalid || slide[v] ||
+          (v < qm.merged.size() && qm.merged[v])) {
         // A singularity or crease vertex must keep covering the surface point the map chose:
         // it may glide along the surface, not cut off a tip (a horn, a finger) it stood on.
         const Vec3 old = qm.positions[v];
