@@ -69,7 +69,8 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
                                << q.reference_topology->euler;
   EXPECT_NEAR(double(quads.num_faces()), 1500.0, 150.0);
   EXPECT_GT(shortest_edge(quads), 1e-6);
-  EXPECT_LT(100 * q.sj_surface_nonpositive, quads.num_faces());
+  // Quads folded against the surface: the cow folds most today, 4 (not yet 0: issue 6).
+  EXPECT_LE(q.sj_surface_nonpositive, 6u);
   EXPECT_LT(q.hausdorff, 0.08);
   // Every output vertex lies on the input surface (placed through provenance), as the
   // preparation triangulated it (non-planar polygons have no other surface).
@@ -102,8 +103,8 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
 }
 
 // At the default size (one quad per 8 input triangles, 1,000 to 20,000): the same validity, and
-// bounds that hold today (knot1, whose VSA strips wind around the tube, folds most: 22 of its
-// 3,281 quads, 0.7%; 2% before the untangler descended one energy).
+// bounds that hold today (the cow folds most, 2 quads; knot1 folded 25 before the second choice
+// of corners, 2% of its quads before the untangler descended one energy).
 TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   ISOQUAD_CORPUS_MESH(path, GetParam());
   const ReadResult input = read_mesh(path);
@@ -119,7 +120,7 @@ TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   EXPECT_TRUE(q.same_topology);
   EXPECT_GE(quads.num_faces(), 900u);
   EXPECT_GT(shortest_edge(quads), 1e-6);
-  EXPECT_LT(100 * q.sj_surface_nonpositive, quads.num_faces());
+  EXPECT_LE(q.sj_surface_nonpositive, 4u);
   EXPECT_LT(q.hausdorff, 0.08);
   RecordProperty("quads", int(quads.num_faces()));
   RecordProperty("sj_surface_nonpositive", int(q.sj_surface_nonpositive));
