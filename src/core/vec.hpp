@@ -39,10 +39,12 @@ inline bool is_finite(Vec3 a) {
 struct Box3 {
   Vec3 lo{INFINITY, INFINITY, INFINITY};
   Vec3 hi{-INFINITY, -INFINITY, -INFINITY};
+  // As std::fmin and std::fmax (a NaN coordinate is ignored: the bounds are never NaN), but
+  // inlined to minsd/maxsd instead of libm calls: 2% of a bunny00 remesh in AabbTree::build.
   void add(Vec3 p) {
     for (int i = 0; i < 3; ++i) {
-      lo[i] = std::fmin(lo[i], p[i]);
-      hi[i] = std::fmax(hi[i], p[i]);
+      lo[i] = p[i] < lo[i] ? p[i] : lo[i];
+      hi[i] = p[i] > hi[i] ? p[i] : hi[i];
     }
   }
   bool empty() const { return lo.x > hi.x; }
