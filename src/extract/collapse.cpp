@@ -1,7 +1,5 @@
 #include "extract/collapse.hpp"
 
-#include "metrics/aabb_tree.hpp"
-
 #include <algorithm>
 #include <array>
 #include <optional>
@@ -74,17 +72,10 @@ struct Collapser {
     return true;
   }
 
-  // Distance from x to the quads, each taken as four triangles about its centroid.
+  // Distance from x to the quads.
   double distance_to(const Vec3& x, const std::vector<Quad>& quads) const {
     double best = INFINITY;
-    for (const Quad& q : quads) {
-      const Vec3 c = 0.25 * (qm.positions[q[0]] + qm.positions[q[1]] + qm.positions[q[2]] +
-                             qm.positions[q[3]]);
-      for (int k = 0; k < 4; ++k)
-        best = std::min(best, norm(closest_point_on_triangle(x, qm.positions[q[k]],
-                                                             qm.positions[q[(k + 1) % 4]], c) -
-                                   x));
-    }
+    for (const Quad& q : quads) best = std::min(best, distance_to_quad(qm.positions, q, x));
     return best;
   }
 

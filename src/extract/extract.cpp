@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "isoquad/error.hpp"
+#include "metrics/aabb_tree.hpp"
 
 namespace isoquad {
 
@@ -103,6 +104,17 @@ UV apply(const Transition& t, const UV& p) {
 }
 
 }  // namespace
+
+double distance_to_quad(const std::vector<Vec3>& positions, const std::array<uint32_t, 4>& q,
+                        const Vec3& x) {
+  const Vec3 c = 0.25 * (positions[q[0]] + positions[q[1]] + positions[q[2]] + positions[q[3]]);
+  double best = INFINITY;
+  for (int k = 0; k < 4; ++k)
+    best = std::min(
+        best,
+        norm(closest_point_on_triangle(x, positions[q[k]], positions[q[(k + 1) % 4]], c) - x));
+  return best;
+}
 
 QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
                        const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout,

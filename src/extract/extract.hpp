@@ -45,6 +45,10 @@ struct ExtractReport {
   double seconds = 0;
 };
 
+// Distance from x to quad q of `positions`, the quad taken as four triangles about its centroid.
+double distance_to_quad(const std::vector<Vec3>& positions, const std::array<uint32_t, 4>& q,
+                        const Vec3& x);
+
 // \pre param.certificate.ok() or param is the locked map; layout passed check_layout.
 // \throw Error(internal, E601) when a lattice point cannot be placed at all (a bug).
 QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,

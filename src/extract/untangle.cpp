@@ -51,18 +51,11 @@ struct Untangler {
   double fidelity = 0;                 // how far a singularity's quads may leave that point
   double short_edge = 0;               // edges below this count against a corner
 
-  // Distance from x to the quads around v, each taken as four triangles about its centroid.
+  // Distance from x to the quads around v.
   double distance_to_fan(uint32_t v, const Vec3& x) const {
     double best = INFINITY;
-    for (const uint32_t f : around[v]) {
-      const auto& q = qm.quads[f];
-      const Vec3 c = 0.25 * (qm.positions[q[0]] + qm.positions[q[1]] + qm.positions[q[2]] +
-                             qm.positions[q[3]]);
-      for (int k = 0; k < 4; ++k)
-        best = std::min(best, norm(closest_point_on_triangle(x, qm.positions[q[k]],
-                                                             qm.positions[q[(k + 1) % 4]], c) -
-                                   x));
-    }
+    for (const uint32_t f : around[v])
+      best = std::min(best, distance_to_quad(qm.positions, qm.quads[f], x));
     return best;
   }
   std::vector<std::vector<uint32_t>> around;  // quads at each vertex
