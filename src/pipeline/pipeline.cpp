@@ -124,9 +124,7 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
   param_and_extract();
   if (o.last == Stage::param || !o.untangle) return to_component_points();
 
-  // Folds left after untangling: thicker patches, then diagonal collapses.
-  // Diagonal collapses (extract/collapse.hpp) of the quads `report` lists as folded, merged into
-  // the report.
+  // Diagonal collapses (extract/collapse.hpp) of the quads `r` lists as folded, merged into `r`.
   auto collapse_folds = [&](QuadMesh& quads, UntangleReport& r) {
     const auto t = Clock::now();
     UntangleOptions uo;
@@ -144,6 +142,7 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
     r.seconds += last.seconds;
     run.extract_seconds += seconds_since(t);
   };
+  // Folds left after untangling: thicker patches, then diagonal collapses.
   auto repair_folds = [&] {
     // Quads still folded after untangling: give their patches more quads across and solve again,
     // while a round leaves fewer folded quads. A round that does not is undone and is the last: on
