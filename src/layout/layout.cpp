@@ -357,13 +357,52 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
 
 }  // namespace
 
+namespace {
+
+std::vector<double> patch_areas(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                                uint32_t num_patches) {
+  std::vector<double> area(num_patches, 0.0);
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) area[labels[f]] += mesh.face_area(f);
+  return area;
+}
+
+std::vector<SideTarget> area_dimensions(const MetaMesh& meta,
+                                        const std::vector<std::vector<uint8_t>>& sides,
+                                        const std::vector<double>& area, double h,
+                                        double threshold) {
+  std::vector<SideTarget> out;
+  if (threshold <= 0) return out;
+  for (uint32_t p = 0; p < meta.faces.size(); ++p) {
+    const MetaFace& face = meta.faces[p];
+    double length[4] = {0, 0, 0, 0};
+    std::vector<uint32_t> edges[2];
+    for (uint32_t i = 0; i < face.cycle.size(); ++i) {
+      const uint8_t side = sides[p][i];
+      length[side] += meta.edges[face.cycle[i].edge].geodesic;
+      if (side < 2) edges[side].push_back(face.cycle[i].edge);
+    }
+    const double dim[2] = {0.5 * (length[0] + length[2]), 0.5 * (length[1] + length[3])};
+    const int along = dim[0] >= dim[1] ? 0 : 1, across = 1 - along;
+    if (dim[along] <= 0) continue;
+    // The mean width across the longer dimension: area over its length.
+    const double mean = area[p] / dim[along];
+    if (mean <= threshold * dim[across]) continue;
+    std::sort(edges[across].begin(), edges[across].end());
+    out.push_back({std::move(edges[across]), mean / h});
+  }
+  return out;
+}
+
+}  // namespace
+
 // The integer lengths at edge length h, or (by_count) at the h, tuned from the one given (up to
 // h_max), whose quad count comes nearest `wanted`; `layout` gets the lengths, targets and h of
 // that solve.
 Lengths tune_lengths(const MetaMesh& meta, const std::vector<std::vector<uint8_t>>& sides,
                      const std::vector<SideRow>& rows, const std::vector<SideMinimum>& minimums,
-                     bool by_count, double wanted, const LayoutOptions& o, double h, Layout& layout,
-                     LayoutReport& report, double h_max = INFINITY) {
+                     const std::vector<double>& area, bool by_count, double wanted,
+                     const LayoutOptions& o, double h, Layout& layout, LayoutReport& report,
+                     double h_max = INFINITY) {
   // Tune h so that the quad count lands near the request: area scales with 1/h^2.
   Lengths best;
   double best_h = h, best_miss = INFINITY;
@@ -371,10 +410,12 @@ Lengths tune_lengths(const MetaMesh& meta, const std::vector<std::vector<uint8_t
   for (int round = 0; round < (by_count ? 8 : 1); ++round) {
     std::vector<double> c(meta.edges.size());
     for (uint32_t e = 0; e < c.size(); ++e) c[e] = meta.edges[e].geodesic / h;
+    const std::vector<SideTarget> dims =
+        area_dimensions(meta, sides, area, h, o.area_dimension_threshold);
     std::optional<Lengths> flow;
-    if (o.length_solver == LengthSolver::flow && minimums.empty())
+    if (o.length_solver == LengthSolver::flow && minimums.empty() && dims.empty())
       flow = solve_lengths_flow(c, rows);
-    Lengths l = flow ? *flow : solve_lengths(c, rows, o.time_limit, minimums);
+    Lengths l = flow ? *flow : solve_lengths(c, rows, o.time_limit, minimums, dims);
     ++report.size_rounds;
     report.length_seconds += l.seconds;
     layout.length = l.x;
@@ -401,6 +442,14 @@ Lengths tune_lengths(const MetaMesh& meta, const std::vector<std::vector<uint8_t
   for (uint32_t e = 0; e < meta.edges.size(); ++e)
     layout.target[e] = meta.edges[e].geodesic / best_h;
   return best;
+}
+
+std::vector<double> Layout::length_ratios() const {
+  std::vector<double> ratio;
+  for (uint32_t e = 0; e < length.size(); ++e)
+    if (target[e] > 0) ratio.push_back(double(length[e]) / target[e]);
+  std::sort(ratio.begin(), ratio.end());
+  return ratio;
 }
 
 Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
@@ -436,18 +485,15 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
                             tiny, meta.edges.size()));
   // Pre-tune h on the LP relaxation (milliseconds per round), so that the integer program
   // usually runs once: the relaxed quad count sum W H follows the integer one closely.
+  double aim = wanted;
   if (by_count) {
-    // Where x >= 1 keeps the count above the request whatever h is, h must not run away: the
-    // search stays within a factor 4 of the area estimate and stops when the count stalls.
-    const double h0 = h;
-    double lo_h = 0, hi_h = INFINITY, last_q = INFINITY;
-    for (int round = 0; round < 12; ++round) {
+    const auto relaxed_quads = [&](double at_h) -> std::optional<double> {
       std::vector<double> c(meta.edges.size());
-      for (uint32_t e = 0; e < c.size(); ++e) c[e] = meta.edges[e].geodesic / h;
+      for (uint32_t e = 0; e < c.size(); ++e) c[e] = meta.edges[e].geodesic / at_h;
       const RelaxedLengths relaxed = relaxed_length_problem(c, f->rows);
       const MilpResult r = solve_lp(relaxed.lp);
       report.length_seconds += r.seconds;
-      if (!r.found()) break;
+      if (!r.found()) return std::nullopt;
       const std::vector<double> x = relaxed.lengths(r.x);
       double q = 0;
       for (uint32_t p = 0; p < meta.faces.size(); ++p) {
@@ -456,15 +502,30 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
           if (f->sides[p][i] < 2) side[f->sides[p][i]] += x[meta.faces[p].cycle[i].edge];
         q += side[0] * side[1];
       }
-      if (std::fabs(q - wanted) <= 0.005 * wanted || std::fabs(q - last_q) <= 0.005 * q) break;
-      last_q = q;
-      (q > wanted ? lo_h : hi_h) = h;
-      h = lo_h > 0 && hi_h < INFINITY ? std::sqrt(lo_h * hi_h) : h * std::sqrt(q / wanted);
+      return q;
+    };
+    // x >= 1 puts a floor under the count (every meta-edge one quad long, h infinite). Below
+    // kFloorMargin times that floor, the request is raised to it: h then stays near where the
+    // long meta-edges keep their lengths. Chasing the request instead grew h until the count
+    // stalled (the elephant's default 1,000 quads: h 4.5 times the area estimate for 1,430
+    // quads, the median meta-edge 4.5 times its length).
+    if (const auto floor = relaxed_quads(INFINITY)) aim = std::max(wanted, kFloorMargin * *floor);
+    // The search stays within a factor 4 of the area estimate.
+    const double h0 = h;
+    double lo_h = 0, hi_h = INFINITY;
+    if (aim != wanted) h = h0 * std::sqrt(wanted / aim);
+    for (int round = 0; round < 12; ++round) {
+      const auto q = relaxed_quads(h);
+      if (!q || std::fabs(*q - aim) <= 0.005 * aim) break;
+      (*q > aim ? lo_h : hi_h) = h;
+      h = lo_h > 0 && hi_h < INFINITY ? std::sqrt(lo_h * hi_h) : h * std::sqrt(*q / aim);
       h = std::clamp(h, h0 / 4, h0 * 4);
     }
   }
-  const Lengths best =
-      tune_lengths(meta, f->sides, f->rows, {}, by_count, wanted, o, h, layout, report);
+  layout.quads_aim = aim;
+  const Lengths best = tune_lengths(meta, f->sides, f->rows, {},
+                                    patch_areas(mesh, labels, uint32_t(meta.faces.size())),
+                                    by_count, aim, o, h, layout, report);
   report.length_solver = best.solver;
   report.length_optimal = best.optimal;
   build_charts(meta, f->sides, layout);
@@ -514,13 +575,15 @@ std::optional<Layout> relayout_lengths(const TriMesh& mesh, const FaceData<uint3
   Layout layout;
   layout.quarter_turns = base.quarter_turns;
   const bool by_count = o.edge_length <= 0;
-  const double wanted = o.quads > 0 ? o.quads : default_quad_count(mesh);
+  const double wanted = std::max(o.quads > 0 ? o.quads : default_quad_count(mesh), base.quads_aim);
+  layout.quads_aim = wanted;
   // The held sides add quads; a slightly larger h takes some back elsewhere, but not so much
   // that the rest of the mesh coarsens (with every patch four-sided on fandisk, an unbounded h
   // grew 3x in two rounds while the count stayed up).
   const double h_max = kRelayoutMaxGrowth * base.edge_length;
-  const Lengths l = tune_lengths(meta, sides, rows, minimums, by_count, wanted, o, base.edge_length,
-                                 layout, report, h_max);
+  const Lengths l = tune_lengths(meta, sides, rows, minimums,
+                                 patch_areas(mesh, labels, uint32_t(meta.faces.size())), by_count,
+                                 wanted, o, base.edge_length, layout, report, h_max);
   if (by_count && double(layout.quads()) > kRelayoutMaxQuads * wanted) return std::nullopt;
   report.length_solver = l.solver;
   report.length_optimal = l.optimal;

@@ -158,37 +158,50 @@ double length_cost(double x, double c) {
   return cost;
 }
 
+namespace {
+
+// Ties `row` (the terms of a length: one x_e or a side's sum) to the target c through its
+// deviation columns, added to `ilp`. For integer lengths the breakpoint at c is replaced by
+// floor(c) and floor(c) + 1, which prices every integer the same:
+// length - up - stretch + sum shrink_j = floor(c), the first unit up priced at
+// d(floor + 1) - d(floor), and the shrink segments from floor(c) down. The relaxation is then
+// tight between the two integers around c (the chord instead of the kink at c), and CBC needs
+// fewer cuts and nodes.
+void add_soft_target(MilpProblem& ilp, MilpProblem::Row row, double c, bool integer) {
+  const std::vector<CostSegment> shrink = shrink_segments(c);
+  const double base = std::floor(c);
+  const bool chord = integer && c > 1 && base != c && !shrink.empty();
+  row.lo = row.hi = chord ? base : c;
+  if (chord) {
+    row.columns.push_back(
+        ilp.add_column(length_cost(base + 1, c) - length_cost(base, c), 0, 1, false));
+    row.values.push_back(-1);
+  }
+  row.columns.push_back(ilp.add_column(stretch_slope(c), 0, MilpProblem::kInf, false));
+  row.values.push_back(-1);
+  for (std::size_t k = chord ? 1 : 0; k < shrink.size(); ++k) {  // shrink[0]: c to floor
+    row.columns.push_back(ilp.add_column(shrink[k].slope, 0, shrink[k].length, false));
+    row.values.push_back(1);
+  }
+  ilp.add_row(std::move(row));
+}
+
+MilpProblem::Row side_sum(const std::vector<uint32_t>& edges) {
+  MilpProblem::Row row;
+  for (const uint32_t e : edges) row.columns.push_back(e), row.values.push_back(1);
+  return row;
+}
+
+}  // namespace
+
 MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideRow>& rows,
-                           bool bounded, bool integer, const std::vector<SideMinimum>& minimums) {
+                           bool bounded, bool integer, const std::vector<SideMinimum>& minimums,
+                           const std::vector<SideTarget>& dimensions) {
   const uint32_t n = uint32_t(c.size());
   MilpProblem ilp;
   for (uint32_t e = 0; e < n; ++e)  // x_e; the bound keeps the search small, dropped if it bites
     ilp.add_column(0, 1, bounded ? std::max(4 * c[e], c[e] + 20) : MilpProblem::kInf, integer);
-  for (uint32_t e = 0; e < n; ++e) {
-    // x_e - stretch + sum shrink_j = c_e. For integer lengths the breakpoint at c_e is replaced
-    // by floor(c_e) and floor(c_e) + 1, which prices every integer the same:
-    // x_e - up - stretch + sum shrink_j = floor(c_e), the first unit up priced at
-    // d(floor + 1) - d(floor), and the shrink segments from floor(c_e) down. The relaxation is
-    // then tight between the two integers around c_e (the chord instead of the kink at c_e), and
-    // CBC needs fewer cuts and nodes.
-    const std::vector<CostSegment> shrink = shrink_segments(c[e]);
-    const double base = std::floor(c[e]);
-    const bool chord = integer && c[e] > 1 && base != c[e] && !shrink.empty();
-    const double rhs = chord ? base : c[e];
-    MilpProblem::Row row{{e}, {1}, rhs, rhs};
-    if (chord) {
-      row.columns.push_back(
-          ilp.add_column(length_cost(base + 1, c[e]) - length_cost(base, c[e]), 0, 1, false));
-      row.values.push_back(-1);
-    }
-    row.columns.push_back(ilp.add_column(stretch_slope(c[e]), 0, MilpProblem::kInf, false));
-    row.values.push_back(-1);
-    for (std::size_t k = chord ? 1 : 0; k < shrink.size(); ++k) {  // shrink[0]: c_e to floor
-      row.columns.push_back(ilp.add_column(shrink[k].slope, 0, shrink[k].length, false));
-      row.values.push_back(1);
-    }
-    ilp.add_row(std::move(row));
-  }
+  for (uint32_t e = 0; e < n; ++e) add_soft_target(ilp, {{e}, {1}}, c[e], integer);
   for (const SideRow& r : rows) {
     MilpProblem::Row row;
     for (const auto& [e, sign] : r) row.columns.push_back(e), row.values.push_back(sign);
@@ -196,11 +209,11 @@ MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideR
     ilp.add_row(std::move(row));
   }
   for (const SideMinimum& m : minimums) {
-    MilpProblem::Row row;
-    for (const uint32_t e : m.edges) row.columns.push_back(e), row.values.push_back(1);
+    MilpProblem::Row row = side_sum(m.edges);
     row.lo = double(m.at_least);
     ilp.add_row(std::move(row));
   }
+  for (const SideTarget& d : dimensions) add_soft_target(ilp, side_sum(d.edges), d.target, integer);
   return ilp;
 }
 
@@ -255,17 +268,20 @@ std::vector<double> RelaxedLengths::lengths(const std::vector<double>& solution)
 namespace {
 
 MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& rows,
-                      double time_limit, bool bounded, const std::vector<SideMinimum>& minimums) {
-  return solve_milp(length_problem(c, rows, bounded, true, minimums), time_limit, 0, 0, false);
+                      double time_limit, bool bounded, const std::vector<SideMinimum>& minimums,
+                      const std::vector<SideTarget>& dimensions) {
+  return solve_milp(length_problem(c, rows, bounded, true, minimums, dimensions), time_limit, 0, 0,
+                    false);
 }
 
 }  // namespace
 
 Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& rows,
-                      double time_limit, const std::vector<SideMinimum>& minimums) {
+                      double time_limit, const std::vector<SideMinimum>& minimums,
+                      const std::vector<SideTarget>& dimensions) {
   const uint32_t n = uint32_t(c.size());
-  MilpResult res = length_ilp(c, rows, time_limit, true, minimums);
-  if (!res.found()) res = length_ilp(c, rows, time_limit, false, minimums);
+  MilpResult res = length_ilp(c, rows, time_limit, true, minimums, dimensions);
+  if (!res.found()) res = length_ilp(c, rows, time_limit, false, minimums, dimensions);
   if (!res.found())
     throw Error(ErrorKind::solver, "E502",
                 fmt::format("the integer length program found no solution in {} s", time_limit));
@@ -277,6 +293,11 @@ Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& 
   for (uint32_t e = 0; e < n; ++e) {
     out.x[e] = std::llround(res.x[e]);
     out.objective += length_cost(double(out.x[e]), c[e]);
+  }
+  for (const SideTarget& d : dimensions) {
+    int64_t sum = 0;
+    for (const uint32_t e : d.edges) sum += out.x[e];
+    out.objective += length_cost(double(sum), d.target);
   }
   return out;
 }

@@ -72,9 +72,16 @@ double length_cost(double x, double c);
 // The length program itself: columns x_e (e < n), then per edge its stretch and shrink
 // segments; row e ties x_e to c_e through them, then one row per side equation in the order of
 // `rows` (row n + k for rows[k]), then one row per side minimum.
+// A soft target on one patch side (the sum of x_e over `edges`, an edge listed twice counting
+// twice), priced like a meta-edge's: `dimensions` follow the minimums as rows.
+struct SideTarget {
+  std::vector<uint32_t> edges;
+  double target = 0;
+};
 MilpProblem length_problem(const std::vector<double>& target, const std::vector<SideRow>& rows,
                            bool bounded, bool integer,
-                           const std::vector<SideMinimum>& minimums = {});
+                           const std::vector<SideMinimum>& minimums = {},
+                           const std::vector<SideTarget>& dimensions = {});
 
 // The LP relaxation of the length program with x eliminated: per edge e the columns
 // [first[e], first[e + 1]) are its stretch (coefficient +1) and then its shrink segments (-1), so
@@ -102,7 +109,7 @@ RelaxedLengths relaxed_length_problem(const std::vector<double>& target,
 
 struct Lengths {
   std::vector<int64_t> x;
-  double objective = 0;  // sum_e d(x_e, c_e)
+  double objective = 0;  // sum_e d(x_e, c_e) plus the side targets' d
   bool optimal = false;
   double seconds = 0;
   std::string solver;
@@ -110,6 +117,7 @@ struct Lengths {
 // \pre the system is feasible.
 // \throw Error(solver, E502) if CBC finds no solution in time.
 Lengths solve_lengths(const std::vector<double>& target, const std::vector<SideRow>& rows,
-                      double time_limit, const std::vector<SideMinimum>& minimums = {});
+                      double time_limit, const std::vector<SideMinimum>& minimums = {},
+                      const std::vector<SideTarget>& dimensions = {});
 
 }  // namespace isoquad

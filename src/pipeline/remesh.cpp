@@ -89,6 +89,11 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
         r.param_report.factorizations, r.param_report.fell_back_to_locked ? ", locked map" : "",
         1e3 * r.param_seconds, 1e3 * r.extract_seconds));
     std::map<std::string, int> valence;
+    // How far the integer lengths are from the geodesic ones: x_e / c_e per meta-edge.
+    const std::vector<double> ratio = r.layout.length_ratios();
+    const auto at = [&](double q) {
+      return ratio.empty() ? 0.0 : ratio[std::size_t(std::lround(q * double(ratio.size() - 1)))];
+    };
     for (uint32_t v = 0; v < r.seg.meta.vertices.size(); ++v)
       if (!r.seg.meta.vertices[v].on_boundary) ++valence[std::to_string(r.layout.quarter_turns[v])];
     comps.push_back(
@@ -104,6 +109,12 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
          {"quads", r.layout.quads()},
          {"edge_length", r.layout.edge_length / prep.normalization.scale},
          {"layout_repairs", r.layout_report.repairs},
+         {"length_ratio",
+          {{"min", at(0)},
+           {"p05", at(0.05)},
+           {"median", at(0.5)},
+           {"p95", at(0.95)},
+           {"max", at(1)}}},
          {"factorizations", r.param_report.factorizations},
          {"flipped_unstiffened", r.param_report.flipped_unstiffened},
          {"flipped_first_solve", r.param_report.flipped_first},

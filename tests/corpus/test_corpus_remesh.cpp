@@ -3,7 +3,7 @@
 // Euler characteristic; its quad count is what the layout promised and within 10% of the
 // request. Untangling never adds folds, fewer than 1% of the quads fold against the surface
 // (the goal is none: 52 of 28,385 over the corpus when this was written) and the Hausdorff
-// distance stays under 8% of the diagonal (mech-holes-shark's crenellated boundary: 7.2%).
+// distance stays under 7% of the diagonal (mech-holes-shark: 6.4%).
 // The run's report folder (pictures, layout, JSON, HTML) is complete and its numbers are the
 // output's quality.
 #include <gtest/gtest.h>
@@ -39,6 +39,19 @@ double shortest_edge(const PolyMesh& quads) {
   }
   return shortest / box.diagonal();
 }
+
+// The median meta-edge is laid out near its geodesic length: the layout neither coarsens nor
+// refines the mesh as a whole (the elephant's default size had 4.5 before the request was
+// raised to the count the patches allow; 0.97-1.34 over the corpus since).
+void expect_lengths_near_targets(const RemeshRun& run) {
+  for (const ComponentRun& r : run.runs) {
+    const std::vector<double> ratio = r.layout.length_ratios();
+    ASSERT_FALSE(ratio.empty());
+    const double median = ratio[ratio.size() / 2];
+    EXPECT_GT(median, 0.8);
+    EXPECT_LT(median, 1.5);
+  }
+}
 }  // namespace
 
 TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
@@ -60,6 +73,7 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
     EXPECT_GE(r.untangle_report.min_after, r.untangle_report.min_before);
   }
   EXPECT_EQ(int64_t(quads.num_faces()), promised);
+  expect_lengths_near_targets(run);
   const QualityReport q = measure_quality(quads, &input.mesh);
   EXPECT_TRUE(q.pure_quad);
   EXPECT_TRUE(q.edge_manifold);
@@ -71,7 +85,8 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   EXPECT_GT(shortest_edge(quads), 1e-6);
   // Quads folded against the surface: the cow folds most today, 4 (not yet 0: issue 6).
   EXPECT_LE(q.sj_surface_nonpositive, 6u);
-  EXPECT_LT(q.hausdorff, 0.08);
+  // mech-holes-shark is farthest, 6.4% (7.1% before lens-shaped patches got a width target).
+  EXPECT_LT(q.hausdorff, 0.07);
   // Every output vertex lies on the input surface (placed through provenance), as the
   // preparation triangulated it (non-planar polygons have no other surface).
   std::vector<std::array<Vec3, 3>> tris;
@@ -112,6 +127,7 @@ TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   const PolyMesh& quads = run.result.quads;
   for (const ComponentRun& r : run.runs)
     EXPECT_LE(r.untangle_report.folded_after, r.untangle_report.folded_before);
+  expect_lengths_near_targets(run);
   const QualityReport q = measure_quality(quads, &input.mesh);
   EXPECT_TRUE(q.pure_quad);
   EXPECT_TRUE(q.edge_manifold);
@@ -121,7 +137,9 @@ TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   EXPECT_GE(quads.num_faces(), 900u);
   EXPECT_GT(shortest_edge(quads), 1e-6);
   EXPECT_LE(q.sj_surface_nonpositive, 4u);
-  EXPECT_LT(q.hausdorff, 0.08);
+  // The farthest are mech-holes-shark 3.3% and the elephant 3.0% (7.3% and 3.8% before the
+  // width targets and the raised request).
+  EXPECT_LT(q.hausdorff, 0.04);
   RecordProperty("quads", int(quads.num_faces()));
   RecordProperty("sj_surface_nonpositive", int(q.sj_surface_nonpositive));
   RecordProperty("hausdorff_permille", int(1000 * q.hausdorff));

@@ -152,6 +152,22 @@ TEST(LengthProgram, IntegerFormPricesEveryIntegerLikeTheCost) {
   }
 }
 
+// A lens: one patch with long sides 0 and 2 (20) and short ends 1 and 3 (1), but a mean width
+// of 10 by its area. Alone the ends stay 1; with the width's soft target the optimum of
+// 2 (k - 1) + d(k, 10) is k = 2 (cost 2 + 4 = 6, against 9 at 1 and 4 + 2.33 at 3).
+TEST(LengthProgram, WidthTargetWidensALens) {
+  const std::vector<SideRow> rows = {{{0, 1}, {2, -1}}, {{1, 1}, {3, -1}}};
+  const std::vector<double> c = {20, 1, 20, 1};
+  const Lengths plain = solve_lengths(c, rows, 10);
+  EXPECT_EQ(plain.x, (std::vector<int64_t>{20, 1, 20, 1}));
+  EXPECT_NEAR(plain.objective, 0.0, 1e-9);
+  const Lengths wide = solve_lengths(c, rows, 10, {}, {SideTarget{{1}, 10}});
+  EXPECT_TRUE(wide.optimal);
+  EXPECT_EQ(wide.x, (std::vector<int64_t>{20, 2, 20, 2}));
+  EXPECT_NEAR(wide.objective, 2 * length_cost(2, 1) + length_cost(2, 10), 1e-9);
+  EXPECT_NEAR(wide.objective, 6.0, 1e-9);
+}
+
 TEST(LengthCost, SymmetricInTheRatioAndConvex) {
   for (const double c : {1.0, 2.5, 7.0, 15.3, 40.0}) {
     EXPECT_EQ(length_cost(c, c), 0.0);
@@ -190,6 +206,34 @@ TEST(Layout, CubeIsSixSquareGrids) {
   }
   for (int a : l.quarter_turns) EXPECT_EQ(a, 3);  // every cube corner: three 90-degree corners
   EXPECT_NEAR(l.objective, 0.0, 1e-9);
+}
+
+// A request below what the patches allow (every meta-edge at least one quad long): an icosphere
+// in 24 patches asked for 20 quads. The layout aims at kFloorMargin times the floor instead of
+// growing h until every meta-edge is one quad long, so the meta-edges keep their lengths.
+TEST(Layout, RequestBelowTheFloorIsRaisedNotChased) {
+  Built b = segmented(test::icosphere(3), 24);
+  ASSERT_GE(b.seg.num_patches, 20u);
+  LayoutOptions o;
+  o.quads = 20;
+  LayoutReport report;
+  const Layout l =
+      solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, b.seg.meta, o, report);
+  test::expect_valid_layout(b.seg.meta, l);
+  // At least one quad per patch, so the floor is above the request.
+  EXPECT_GT(l.quads_aim, 4 * o.quads);
+  EXPECT_NEAR(double(l.quads()), l.quads_aim, 0.25 * l.quads_aim);
+  const std::vector<double> ratio = l.length_ratios();
+  ASSERT_FALSE(ratio.empty());
+  EXPECT_GT(ratio[ratio.size() / 2], 0.67);
+  EXPECT_LT(ratio[ratio.size() / 2], 1.5);
+  // Above the floor the request stands.
+  o.quads = 8 * l.quads_aim;
+  MetaMesh meta = b.seg.meta;
+  const Layout fine =
+      solve_layout(b.seg.refined.mesh, b.seg.labels, b.seg.feature, meta, o, report);
+  EXPECT_EQ(fine.quads_aim, o.quads);
+  EXPECT_NEAR(double(fine.quads()), o.quads, 0.1 * o.quads);
 }
 
 TEST(Layout, PlateGetsItsSize) {
