@@ -36,21 +36,22 @@ int regular_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, uint32_t mv
   return std::clamp(int(std::lround(theta / (kPi / 2))), 1, 3);
 }
 
-std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
-                                                            const FaceData<uint32_t>& labels,
-                                                            const MetaMesh& meta, double beta,
-                                                            uint32_t keep, double unit,
-                                                            double flat_corner) {
+std::vector<std::vector<CornerCandidate>> corner_candidates(
+    const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta, double beta,
+    uint32_t keep, double unit, double flat_corner, double flat_crease_corner) {
   std::vector<std::vector<CornerCandidate>> out(meta.faces.size());
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     const MetaFace& f = meta.faces[p];
     const uint32_t m = uint32_t(f.cycle.size());
     std::vector<double> len(m), theta(m);
+    std::vector<char> flat_crease(m, 0);  // a straight crease runs through the item's start
     double theta_sum = 0;
     for (uint32_t i = 0; i < m; ++i) {
       len[i] = meta.edges[f.cycle[i].edge].geodesic;
       theta[i] = patch_angle(mesh, labels, meta.vertices[f.start_vertex(i, meta.edges)].vertex, p);
       theta_sum += theta[i];
+      flat_crease[i] = meta.edges[f.cycle[i].edge].feature &&
+                       meta.edges[f.cycle[(i + m - 1) % m].edge].feature && theta[i] > 5 * kPi / 6;
     }
     // Discrete Gauss-Bonnet: rescale so that the angles sum as in a flat m-gon, (m - 2) pi.
     for (double& t : theta) t *= (m - 2) * kPi / std::max(theta_sum, 1e-12);
@@ -90,6 +91,7 @@ std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
               const bool corner = std::find(it.begin(), it.end(), i) != it.end();
               e_ang += std::pow((theta[i] - (corner ? kPi / 2 : kPi)) / (kPi / 2), 2);
               if (corner && theta[i] > 5 * kPi / 6) e_ang += flat_corner;
+              if (corner && flat_crease[i]) e_ang += flat_crease_corner;
             }
             cands.push_back({it, e_len + beta * e_ang});
           }

@@ -31,10 +31,16 @@ struct CornerChoice {
 // unbounded, so that a side of a tenth of a unit never faces one of forty, yet light enough to
 // leave room to the angle and valence terms; with unit == 0 the paper's scale-free
 // ((a - b)/(a + b))^2. `flat_corner` is added to the angle term for each corner at a surface
-// angle above 150 degrees, where the quad at the corner must open to that angle.
-std::vector<std::vector<CornerCandidate>> corner_candidates(
-    const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
-    double angle_weight, uint32_t keep, double unit = 0, double flat_corner = 0);
+// angle above 150 degrees, where the quad at the corner must open to that angle;
+// `flat_crease_corner` too where the patch boundary runs along a crease on both sides of the
+// corner (measured before the Gauss-Bonnet rescaling): crease vertices only slide along their
+// crease, so nothing after the layout can close that angle.
+std::vector<std::vector<CornerCandidate>> corner_candidates(const TriMesh& mesh,
+                                                            const FaceData<uint32_t>& labels,
+                                                            const MetaMesh& meta,
+                                                            double angle_weight, uint32_t keep,
+                                                            double unit = 0, double flat_corner = 0,
+                                                            double flat_crease_corner = 0);
 
 // Picks one candidate per patch. With `require_feasible`, the ILP also carries continuous
 // meta-edge lengths in [1, 100] and, for the chosen candidate of each patch only (big-M), its

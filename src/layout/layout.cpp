@@ -102,8 +102,8 @@ std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uin
   for (const uint32_t keep :
        {o.candidates_per_patch, o.candidates_per_patch, 4 * o.candidates_per_patch}) {
     const bool exact = report.corner_rounds > 0;
-    const auto cands =
-        corner_candidates(mesh, labels, meta, o.angle_weight, keep, unit, o.flat_corner_penalty);
+    const auto cands = corner_candidates(mesh, labels, meta, o.angle_weight, keep, unit,
+                                         o.flat_corner_penalty, o.flat_crease_corner_penalty);
     Feasible f;
     try {
       f.corners = choose_corners(mesh, meta, cands, o, exact);
@@ -171,8 +171,8 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
                      Feasible& f, LayoutReport& report) {
   const auto t0 = std::chrono::steady_clock::now();
   const uint32_t np = uint32_t(meta.faces.size());
-  const auto all =
-      corner_candidates(mesh, labels, meta, o.angle_weight, 0, unit, o.flat_corner_penalty);
+  const auto all = corner_candidates(mesh, labels, meta, o.angle_weight, 0, unit,
+                                     o.flat_corner_penalty, o.flat_crease_corner_penalty);
   auto cost_of = [&](uint32_t p, const std::array<uint32_t, 4>& c) -> double {
     std::array<uint32_t, 4> s = c;
     std::sort(s.begin(), s.end());

@@ -53,6 +53,9 @@ struct LayoutOptions {
   // degrees. 0 by default: the remesh pipeline sets it when it re-chooses the corners of a
   // mesh whose quads still fold (pipeline.cpp).
   double flat_corner_penalty = 0;
+  // The same for a corner on a straight crease only (the patch boundary a crease on both sides):
+  // there the quad's 180-degree corner cannot be moved away. Also set by the pipeline's retry.
+  double flat_crease_corner_penalty = 0;
   uint32_t candidates_per_patch = 8;
   // Improve the corners patch by patch against the LP relaxation of the length program: about
   // half the length objective on organic and CAD meshes (corpus at 1,500 quads: quads folded

@@ -33,9 +33,10 @@ struct PipelineOptions {
   // Rounds of more quads across the patches whose quads are still folded after untangling
   // (layout/layout.hpp thicken_patches); a round is kept only if fewer quads fold.
   uint32_t fold_rounds = 2;
-  // If quads still fold after those rounds and the collapses, the corners are chosen again
-  // with this LayoutOptions::flat_corner_penalty (0: never; nor with fold_rounds 0, which
-  // solves nothing again).
+  // If quads still fold after those rounds and the collapses, the corners are chosen again, with
+  // this as LayoutOptions::flat_crease_corner_penalty (where the mesh has creases), then as
+  // LayoutOptions::flat_corner_penalty, while quads fold (0: never; nor with fold_rounds 0,
+  // which solves nothing again).
   double corner_retry_penalty = 2;
   // Split every patch into four-sided ones before the layout (seg/quad_split.hpp). Otherwise
   // this happens only when no corner choice or meta-vertex insertion makes the layout feasible.
@@ -59,8 +60,9 @@ struct ComponentRun {
   uint32_t subdivisions = 0;
   uint32_t subdivision_retreats = 0;  // levels given up because the finer map did not certify
   bool corners_unrefined = false;     // the refined corners' map did not certify: the ILP's used
-  uint32_t fold_rounds = 0, fold_rounds_kept = 0;            // thickening rounds tried and kept
-  bool corners_retried = false, corners_retry_kept = false;  // corners re-chosen for folds
+  uint32_t fold_rounds = 0, fold_rounds_kept = 0;  // thickening rounds tried and kept
+  // Corners chosen again for folds: how many tries, and which was kept (1-based; 0: none).
+  uint32_t corner_tries = 0, corner_try_kept = 0;
   SegmentResult seg;
   std::optional<QuadSplitReport> quad_split;  // when the patches were split into quads
   Layout layout;

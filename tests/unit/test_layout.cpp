@@ -396,6 +396,51 @@ TEST(Corners, FlatCornerPenaltyPricesCornersAboveOneHundredFiftyDegrees) {
   EXPECT_LT(with, without);  // 1 against 2
 }
 
+// The crease price applies exactly where the patch boundary runs along a crease on both sides
+// of a corner at a flat place: on a cube in 14 patches, corners in the middle of a cube edge.
+// Every priced corner has two feature meta-edges; cube corners (90 degrees) and corners on
+// smooth seams are never priced.
+TEST(Corners, FlatCreaseCornerPenaltyPricesOnlyCornersOnStraightCreases) {
+  Built b = segmented(test::subdivided_cube(8), 14);
+  const TriMesh& mesh = b.seg.refined.mesh;
+  const MetaMesh& meta = b.seg.meta;
+  const double beta = 0.5, price = 2;
+  const auto plain = corner_candidates(mesh, b.seg.labels, meta, beta, 0, 0, 0, 0);
+  const auto priced = corner_candidates(mesh, b.seg.labels, meta, beta, 0, 0, 0, price);
+  ASSERT_EQ(plain.size(), priced.size());
+  const Box3 box = mesh.bounding_box();
+  auto cube_corner = [&](uint32_t v) {
+    const Vec3 x = mesh.position(v);
+    const double lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z},
+                 at[3] = {x.x, x.y, x.z};
+    for (int k = 0; k < 3; ++k)
+      if (std::fabs(at[k] - lo[k]) > 1e-9 && std::fabs(at[k] - hi[k]) > 1e-9) return false;
+    return true;
+  };
+  uint32_t priced_candidates = 0;
+  for (uint32_t p = 0; p < plain.size(); ++p) {
+    const MetaFace& f = meta.faces[p];
+    const uint32_t m = uint32_t(f.cycle.size());
+    std::map<std::array<uint32_t, 4>, double> cost;
+    for (const CornerCandidate& c : plain[p]) cost[c.items] = c.cost;
+    for (const CornerCandidate& c : priced[p]) {
+      ASSERT_TRUE(cost.count(c.items));
+      const double steps = (c.cost - cost[c.items]) / (beta * price);
+      EXPECT_NEAR(steps, std::round(steps), 1e-9);
+      // At most the corners whose both meta-edges are creases.
+      int on_creases = 0;
+      for (const uint32_t i : c.items)
+        on_creases += meta.edges[f.cycle[i].edge].feature &&
+                      meta.edges[f.cycle[(i + m - 1) % m].edge].feature &&
+                      !cube_corner(meta.vertices[f.start_vertex(i, meta.edges)].vertex);
+      EXPECT_GE(steps, -1e-9);
+      EXPECT_LE(steps, on_creases + 1e-9);
+      priced_candidates += steps > 0.5;
+    }
+  }
+  EXPECT_GT(priced_candidates, 0u);
+}
+
 namespace {
 // Facing-side equations of a real segmentation with its chosen corners.
 std::vector<SideRow> rows_of(const SegmentResult& seg, const TriMesh& mesh) {
