@@ -203,31 +203,37 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
   };
   repair_folds();
 
-  // Folds left still: choose the corners again with a price on some patch corners, and repair
-  // again; the run with the fewest folded quads is kept (ties: the earlier). First the corners on
-  // straight creases (their quad has a 180-degree corner between vertices that may only slide
-  // along the crease), where the mesh has creases; then every corner at a flat place (above 150
-  // degrees). Neither is the first choice: on the corpus at 1,500 quads the flat price moves
-  // folds around (10 -> 13 in all; the elephant 0 -> 3, rotor 2 -> 0), and the crease price
-  // cost fandisk 0.49 -> 0.93% and rotor 1.67 -> 2.06% Hausdorff while folds went 9 -> 8; where
-  // a mesh still folds they are the better second tries (knot1 at the default size: 25 -> 0 by
-  // the flat price, its strip ends had corners at flat places).
+  // Folds left still: choose the corners again with other prices, and repair again; the run
+  // with the fewest folded quads is kept (ties: the earlier). In order, while quads fold:
+  //  - a price on corners on straight creases, where the mesh has creases (such a corner's quad
+  //    opens to 180 degrees between vertices that may only slide along the crease);
+  //  - a price on every corner at a flat place (above 150 degrees);
+  //  - twice the angle weight (corners nearer the patches' geometric corners).
+  // None is the first choice. The layout's outcome is chaotic in these prices: over the corpus at
+  // 1,500 quads the flat price moved folds around (10 -> 13 in all; the elephant 0 -> 3, rotor
+  // 2 -> 0), the crease price cost fandisk 0.49 -> 0.93% and rotor 1.67 -> 2.06% Hausdorff while
+  // folds went 9 -> 8, and twice the angle weight took folds 8 -> 3 at 1,500 quads but 5 -> 9 at
+  // the default size. As tries where quads still fold, each can only help (knot1 at the default
+  // size: 25 -> 0 by the flat price, its strip ends had corners at flat places).
   struct CornerTry {
-    double flat = 0, crease = 0;
+    double flat = 0, crease = 0, angle_weight = 0;
   };
   std::vector<CornerTry> tries;
   if (segmented && !run.quad_split && o.fold_rounds > 0 && o.corner_retry_penalty > 0 &&
       lo.flat_corner_penalty == 0 && lo.flat_crease_corner_penalty == 0) {
+    const double beta = lo.angle_weight;
     if (std::any_of(segmented->edges.begin(), segmented->edges.end(),
                     [](const MetaEdge& e) { return e.feature; }))
-      tries.push_back({0, o.corner_retry_penalty});
-    tries.push_back({o.corner_retry_penalty, 0});
+      tries.push_back({0, o.corner_retry_penalty, beta});
+    tries.push_back({o.corner_retry_penalty, 0, beta});
+    if (beta > 0) tries.push_back({0, 0, 2 * beta});
   }
   for (const CornerTry& t : tries) {
     if (run.untangle_report.folded.empty()) break;
     ComponentRun before = run;
     lo.flat_corner_penalty = t.flat;
     lo.flat_crease_corner_penalty = t.crease;
+    lo.angle_weight = t.angle_weight;
     bool keep = false;
     // The refined corners first, even where they were given up for the first choice: with the
     // new price they differ (knot1 at the default size).
