@@ -71,10 +71,11 @@ struct LayoutOptions {
   bool prune_corner_trials = true;
   // A patch whose mean width across its longer dimension (its area over that dimension's
   // length) is more than this many times its shorter sides (a lens pinched at two corners) gets
-  // a soft target on that width in the length program, priced like a meta-edge's, so it is not
-  // laid out one or two quads thick. 0: off. At 1.5 or 2 it also reached patches that were
-  // fine (corpus at 1,500 quads: quads folded 9 -> 12); at 3, mech-holes-shark 7.3 -> 3.3%
-  // Hausdorff at the default size and three_peaks 1.9 -> 0.9% at 1,500 quads, nothing worse.
+  // a soft target on that width in the length program, priced like a meta-edge's times the
+  // patch's length in quads, so it is not laid out one or two quads thick. 0: off. At 1.5 or 2
+  // it also reached patches that were fine (corpus at 1,500 quads: quads folded 9 -> 12); at 3,
+  // mech-holes-shark 7.1 -> 1.7% Hausdorff at 1,500 quads and 7.3 -> 2.5% at the default size,
+  // three_peaks 1.9 -> 1.1% at 1,500 quads, knot1 2.35 -> 1.25% at the default size.
   double area_dimension_threshold = 3;
   double time_limit = 10;  // seconds per ILP
 };

@@ -167,20 +167,21 @@ namespace {
 // d(floor + 1) - d(floor), and the shrink segments from floor(c) down. The relaxation is then
 // tight between the two integers around c (the chord instead of the kink at c), and CBC needs
 // fewer cuts and nodes.
-void add_soft_target(MilpProblem& ilp, MilpProblem::Row row, double c, bool integer) {
+void add_soft_target(MilpProblem& ilp, MilpProblem::Row row, double c, bool integer,
+                     double weight = 1) {
   const std::vector<CostSegment> shrink = shrink_segments(c);
   const double base = std::floor(c);
   const bool chord = integer && c > 1 && base != c && !shrink.empty();
   row.lo = row.hi = chord ? base : c;
   if (chord) {
     row.columns.push_back(
-        ilp.add_column(length_cost(base + 1, c) - length_cost(base, c), 0, 1, false));
+        ilp.add_column(weight * (length_cost(base + 1, c) - length_cost(base, c)), 0, 1, false));
     row.values.push_back(-1);
   }
-  row.columns.push_back(ilp.add_column(stretch_slope(c), 0, MilpProblem::kInf, false));
+  row.columns.push_back(ilp.add_column(weight * stretch_slope(c), 0, MilpProblem::kInf, false));
   row.values.push_back(-1);
   for (std::size_t k = chord ? 1 : 0; k < shrink.size(); ++k) {  // shrink[0]: c to floor
-    row.columns.push_back(ilp.add_column(shrink[k].slope, 0, shrink[k].length, false));
+    row.columns.push_back(ilp.add_column(weight * shrink[k].slope, 0, shrink[k].length, false));
     row.values.push_back(1);
   }
   ilp.add_row(std::move(row));
@@ -213,7 +214,8 @@ MilpProblem length_problem(const std::vector<double>& c, const std::vector<SideR
     row.lo = double(m.at_least);
     ilp.add_row(std::move(row));
   }
-  for (const SideTarget& d : dimensions) add_soft_target(ilp, side_sum(d.edges), d.target, integer);
+  for (const SideTarget& d : dimensions)
+    add_soft_target(ilp, side_sum(d.edges), d.target, integer, d.weight);
   return ilp;
 }
 
@@ -297,7 +299,7 @@ Lengths solve_lengths(const std::vector<double>& c, const std::vector<SideRow>& 
   for (const SideTarget& d : dimensions) {
     int64_t sum = 0;
     for (const uint32_t e : d.edges) sum += out.x[e];
-    out.objective += length_cost(double(sum), d.target);
+    out.objective += d.weight * length_cost(double(sum), d.target);
   }
   return out;
 }

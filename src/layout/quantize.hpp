@@ -77,6 +77,7 @@ double length_cost(double x, double c);
 struct SideTarget {
   std::vector<uint32_t> edges;
   double target = 0;
+  double weight = 1;  // times a meta-edge's price
 };
 MilpProblem length_problem(const std::vector<double>& target, const std::vector<SideRow>& rows,
                            bool bounded, bool integer,

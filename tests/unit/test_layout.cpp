@@ -166,6 +166,11 @@ TEST(LengthProgram, WidthTargetWidensALens) {
   EXPECT_EQ(wide.x, (std::vector<int64_t>{20, 2, 20, 2}));
   EXPECT_NEAR(wide.objective, 2 * length_cost(2, 1) + length_cost(2, 10), 1e-9);
   EXPECT_NEAR(wide.objective, 6.0, 1e-9);
+  // Weighed 10 times (a patch 10 rows long): 2 (k - 1) + 10 d(k, 10) is least at k = 8
+  // (14 + 2.5; at 7, 12 + 4.58; at 9, 16 + 1.25), d linear between its breakpoints 10, 8, 6.
+  const Lengths wider = solve_lengths(c, rows, 10, {}, {SideTarget{{1}, 10, 10}});
+  EXPECT_EQ(wider.x, (std::vector<int64_t>{20, 8, 20, 8}));
+  EXPECT_NEAR(wider.objective, 16.5, 1e-9);
 }
 
 TEST(LengthCost, SymmetricInTheRatioAndConvex) {
