@@ -72,11 +72,12 @@ struct LayoutOptions {
   // A patch whose mean width across its longer dimension (its area over that dimension's
   // length) is more than this many times its shorter sides (a lens pinched at two corners) gets
   // a soft target on that width in the length program, priced like a meta-edge's times the
-  // patch's length in quads, so it is not laid out one or two quads thick. 0: off. At 1.5 or 2
-  // it also reached patches that were fine (corpus at 1,500 quads: quads folded 9 -> 12); at 3,
-  // mech-holes-shark 7.1 -> 1.7% Hausdorff at 1,500 quads and 7.3 -> 2.5% at the default size,
-  // three_peaks 1.9 -> 1.1% at 1,500 quads, knot1 2.35 -> 1.25% at the default size.
-  double area_dimension_threshold = 3;
+  // patch's length in quads, so it is not laid out one or two quads thick. 0: off. Corpus with
+  // it (at 3, then 2): mech-holes-shark 7.1 -> 1.7% Hausdorff at 1,500 quads and 7.3 -> 2.5% at
+  // the default size, knot1 2.35 -> 1.25% at the default size; at 2 rather than 3, folded quads
+  // 5 -> 5 at 1,500 quads and 6 -> 3 at the default size (the armadillo's Hausdorff there
+  // 0.93 -> 1.28%). At 1.5 or 2 with one meta-edge's weight it had cost folds (9 -> 12).
+  double area_dimension_threshold = 2;
   double time_limit = 10;  // seconds per ILP
 };
 
