@@ -364,6 +364,30 @@ TEST(Corners, LocalModeIsThePapersChoice) {
 // A patch corner above 150 degrees costs `flat_corner` more on the angle term (times beta), and
 // the corner ILP then takes fewer of them. On a plate cut into patches, the T-junctions on the
 // straight outer boundary are flat corners for the patches on either side.
+namespace {
+// Per patch, per candidate (by its items), how many times `step` its priced cost exceeds its
+// plain one; each must be a whole number (keep = 0 lists every candidate of both).
+std::vector<std::map<std::array<uint32_t, 4>, int>> price_steps(
+    const std::vector<std::vector<CornerCandidate>>& plain,
+    const std::vector<std::vector<CornerCandidate>>& priced, double step) {
+  EXPECT_EQ(plain.size(), priced.size());
+  std::vector<std::map<std::array<uint32_t, 4>, int>> out(plain.size());
+  for (uint32_t p = 0; p < plain.size() && p < priced.size(); ++p) {
+    EXPECT_EQ(plain[p].size(), priced[p].size());
+    std::map<std::array<uint32_t, 4>, double> cost;
+    for (const CornerCandidate& c : plain[p]) cost[c.items] = c.cost;
+    for (const CornerCandidate& c : priced[p]) {
+      EXPECT_TRUE(cost.count(c.items));
+      const double steps = (c.cost - cost[c.items]) / step;
+      EXPECT_NEAR(steps, std::round(steps), 1e-9);
+      EXPECT_GE(steps, -1e-9);
+      out[p][c.items] = int(std::lround(steps));
+    }
+  }
+  return out;
+}
+}  // namespace
+
 TEST(Corners, FlatCornerPenaltyPricesCornersAboveOneHundredFiftyDegrees) {
   Built b = segmented(test::grid_plate(24, 24), 10);
   const TriMesh& mesh = b.seg.refined.mesh;
@@ -373,22 +397,13 @@ TEST(Corners, FlatCornerPenaltyPricesCornersAboveOneHundredFiftyDegrees) {
   ASSERT_EQ(plain.size(), priced.size());
   // Flat corners of each candidate, from the cost difference (keep = 0: every candidate, in
   // cost order, so they are matched by their items).
-  std::vector<std::map<std::array<uint32_t, 4>, int>> flat(plain.size());
+  const auto flat = price_steps(plain, priced, beta * price);
   uint32_t priced_candidates = 0;
-  for (uint32_t p = 0; p < plain.size(); ++p) {
-    ASSERT_EQ(plain[p].size(), priced[p].size());
-    std::map<std::array<uint32_t, 4>, double> cost;
-    for (const CornerCandidate& c : plain[p]) cost[c.items] = c.cost;
-    for (const CornerCandidate& c : priced[p]) {
-      ASSERT_TRUE(cost.count(c.items));
-      const double steps = (c.cost - cost[c.items]) / (beta * price);
-      EXPECT_NEAR(steps, std::round(steps), 1e-9);
-      EXPECT_GE(steps, -1e-9);
-      EXPECT_LE(steps, 4 + 1e-9);
-      flat[p][c.items] = int(std::lround(steps));
-      priced_candidates += steps > 0.5;
+  for (const auto& patch : flat)
+    for (const auto& [items, steps] : patch) {
+      EXPECT_LE(steps, 4);
+      priced_candidates += steps > 0;
     }
-  }
   EXPECT_GT(priced_candidates, 0u);
   auto flat_corners = [&](const auto& cands, const LayoutOptions& o) {
     const CornerChoice ch = choose_corners(mesh, b.seg.meta, cands, o);
@@ -422,25 +437,20 @@ TEST(Corners, FlatCreaseCornerPenaltyPricesOnlyCornersOnStraightCreases) {
       if (std::fabs(at[k] - lo[k]) > 1e-9 && std::fabs(at[k] - hi[k]) > 1e-9) return false;
     return true;
   };
+  const auto steps = price_steps(plain, priced, beta * price);
   uint32_t priced_candidates = 0;
-  for (uint32_t p = 0; p < plain.size(); ++p) {
+  for (uint32_t p = 0; p < steps.size(); ++p) {
     const MetaFace& f = meta.faces[p];
     const uint32_t m = uint32_t(f.cycle.size());
-    std::map<std::array<uint32_t, 4>, double> cost;
-    for (const CornerCandidate& c : plain[p]) cost[c.items] = c.cost;
-    for (const CornerCandidate& c : priced[p]) {
-      ASSERT_TRUE(cost.count(c.items));
-      const double steps = (c.cost - cost[c.items]) / (beta * price);
-      EXPECT_NEAR(steps, std::round(steps), 1e-9);
+    for (const auto& [items, n] : steps[p]) {
       // At most the corners whose both meta-edges are creases.
       int on_creases = 0;
-      for (const uint32_t i : c.items)
+      for (const uint32_t i : items)
         on_creases += meta.edges[f.cycle[i].edge].feature &&
                       meta.edges[f.cycle[(i + m - 1) % m].edge].feature &&
                       !cube_corner(meta.vertices[f.start_vertex(i, meta.edges)].vertex);
-      EXPECT_GE(steps, -1e-9);
-      EXPECT_LE(steps, on_creases + 1e-9);
-      priced_candidates += steps > 0.5;
+      EXPECT_LE(n, on_creases);
+      priced_candidates += n > 0;
     }
   }
   EXPECT_GT(priced_candidates, 0u);
