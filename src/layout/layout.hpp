@@ -28,7 +28,7 @@ struct Layout {
   std::vector<int64_t> length;         // x_e per meta-edge
   std::vector<Transition> transition;  // per meta-edge, left chart -> right chart
   double edge_length = 0;              // h used (mesh units)
-  double objective = 0;                // sum w_e |x_e - c_e|
+  double objective = 0;  // sum_e d(x_e, c_e), plus the lens widths' weighted d (quantize.hpp)
   double quads_aim = 0;  // the count h was tuned for: the request, or more (kFloorMargin)
   int64_t quads() const;
   // x_e / c_e over the meta-edges with a positive target, sorted.
