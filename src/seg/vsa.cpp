@@ -3,9 +3,9 @@
 #include "core/face_regions.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <functional>
-#include <queue>
 #include <random>
 
 namespace isoquad {
@@ -38,14 +38,51 @@ struct RegionSums {
   }
 };
 
-struct QueueEntry {
-  double error;
-  uint32_t face, proxy;
-  bool operator>(const QueueEntry& o) const {  // ties broken by ids: deterministic
-    if (error != o.error) return error > o.error;
-    if (face != o.face) return face > o.face;
-    return proxy > o.proxy;
+// A flood queue entry as one 128-bit key, compared as an integer: the error's bits (a
+// non-negative double orders as its bit pattern), then the face (in the flood's numbering), then
+// the proxy. Smaller keys pop first; ties are broken by ids, so the flood is deterministic.
+__extension__ typedef unsigned __int128 QueueKey;
+
+QueueKey queue_key(double error, uint32_t face, uint32_t proxy) {
+  return QueueKey(std::bit_cast<uint64_t>(error)) << 64 | uint64_t(face) << 32 | proxy;
+}
+
+// A binary min-heap of keys: the flood's hot loop, with branch-light integer comparisons.
+class KeyHeap {
+ public:
+  void clear() { a_.clear(); }
+  bool empty() const { return a_.empty(); }
+  void push(QueueKey k) {
+    std::size_t i = a_.size();
+    a_.push_back(k);
+    while (i > 0) {
+      const std::size_t p = (i - 1) / 2;
+      if (!(k < a_[p])) break;
+      a_[i] = a_[p];
+      i = p;
+    }
+    a_[i] = k;
   }
+  QueueKey pop() {
+    const QueueKey top = a_[0], last = a_.back();
+    a_.pop_back();
+    const std::size_t n = a_.size();
+    if (n == 0) return top;
+    std::size_t i = 0;
+    while (true) {
+      std::size_t c = 2 * i + 1;
+      if (c >= n) break;
+      if (c + 1 < n && a_[c + 1] < a_[c]) ++c;
+      if (!(a_[c] < last)) break;
+      a_[i] = a_[c];
+      i = c;
+    }
+    a_[i] = last;
+    return top;
+  }
+
+ private:
+  std::vector<QueueKey> a_;
 };
 
 class Vsa {
@@ -117,7 +154,7 @@ class Vsa {
   std::vector<uint32_t> order_, rank_;
   std::vector<PackedFace> packed_;
   std::vector<uint32_t> near_, flood_label_;
-  std::vector<QueueEntry> heap_;
+  KeyHeap heap_;
   std::vector<Proxy> proxies_;
   std::vector<double> log_;
 };
@@ -165,8 +202,10 @@ void Vsa::smooth_normals() {
 // faces, in Morton (Z-curve) order of their centroids, with per face its normal, centroid, area
 // and crossable neighbours packed together. Input files often list faces in no spatial order
 // (on bunny00 adjacent faces are a median of 12,909 apart). The errors are computed as
-// face_error does and ties go by the original face ids, so the labels are the same as a flood in
-// input order.
+// face_error does; exact ties go by the flood's numbering (looking up the input ids instead cost
+// 13% of the flood and changed no corpus segmentation). The queue is a binary heap of integer
+// keys: 30% faster than std::push_heap on structs (bunny00 in 30 patches: 1.04 -> 0.73 s, then
+// 0.64 s without the lookup).
 void Vsa::flood() {
   const uint32_t nf = m_.num_faces();
   if (order_.empty() && nf > 0) build_flood_order();
@@ -176,13 +215,8 @@ void Vsa::flood() {
   std::vector<uint32_t>& label = flood_label_;
   label.assign(nf, kInvalid);
   const double w = weight();
-  std::vector<QueueEntry>& heap = heap_;
+  KeyHeap& heap = heap_;
   heap.clear();
-  auto later = [&](const QueueEntry& x, const QueueEntry& y) {
-    if (x.error != y.error) return x.error > y.error;
-    if (x.face != y.face) return order_[x.face] > order_[y.face];
-    return x.proxy > y.proxy;
-  };
   auto push_neighbours = [&](uint32_t f, uint32_t p) {
     const Proxy& proxy = proxies_[p];
     for (uint32_t i = 0; i < 3; ++i) {
@@ -193,20 +227,18 @@ void Vsa::flood() {
                                  w * squared_norm(d.centroid - proxy.centroid));
       if (e <= best[g]) {
         best[g] = e;
-        heap.push_back({e, g, p});
-        std::push_heap(heap.begin(), heap.end(), later);
+        heap.push(queue_key(e, g, p));
       }
     }
   };
   for (uint32_t p = 0; p < proxies_.size(); ++p) label[rank_[proxies_[p].seed_face]] = p;
   for (uint32_t p = 0; p < proxies_.size(); ++p) push_neighbours(rank_[proxies_[p].seed_face], p);
   while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), later);
-    const QueueEntry e = heap.back();
-    heap.pop_back();
-    if (label[e.face] != kInvalid) continue;
-    label[e.face] = e.proxy;
-    push_neighbours(e.face, e.proxy);
+    const QueueKey k = heap.pop();
+    const uint32_t face = uint32_t(k >> 32), proxy = uint32_t(k);
+    if (label[face] != kInvalid) continue;
+    label[face] = proxy;
+    push_neighbours(face, proxy);
   }
   for (uint32_t i = 0; i < nf; ++i) label_[order_[i]] = label[i];
 }
