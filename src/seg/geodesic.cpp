@@ -74,43 +74,64 @@ ShortestPaths vertex_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& 
 
 double geodesic_distance(const TriMesh& mesh, uint32_t a, uint32_t b,
                          const std::function<bool(uint32_t)>& face_allowed) {
-  const ShortestPaths sp = dijkstra(
-      mesh.num_vertices(), {a},
-      [&](uint32_t u, auto&& visit) {
-        mesh.for_each_outgoing(u, [&](uint32_t h) {
-          const uint32_t f = TriMesh::face_of(h);
-          if (!face_allowed(f)) return;
-          // Mesh edges u->v and v's predecessor in the face (both edges of face f at u).
-          visit(mesh.to(h), norm(mesh.position(mesh.to(h)) - mesh.position(u)));
-          const uint32_t w = mesh.from(TriMesh::prev(h));
-          visit(w, norm(mesh.position(w) - mesh.position(u)));
-          // Across the opposite edge: the far vertex of the neighbouring face, unfolded.
-          const uint32_t opp = TriMesh::next(h), t = mesh.twin(opp);
-          if (t == kInvalid || !face_allowed(TriMesh::face_of(t))) return;
-          const uint32_t x = mesh.from(TriMesh::prev(t));
-          const Vec3 p = mesh.position(u), q = mesh.position(mesh.to(h)), r = mesh.position(w),
-                     s = mesh.position(x);
-          // Unfold face (q, w, x) into the plane of (u, q, w) around edge q-w: the angle at q
-          // (and at w) is the sum of the two faces' angles; below pi on both ends the straight
-          // segment stays inside the two faces. Sums via cos/sin products, without trigonometry.
-          struct CosSin {
-            double c, s;
-          };
-          auto cs = [](Vec3 d1, Vec3 d2) {
-            const double l = norm(d1) * norm(d2);
-            return l > 0 ? CosSin{dot(d1, d2) / l, norm(cross(d1, d2)) / l} : CosSin{1, 0};
-          };
-          const CosSin q1 = cs(p - q, r - q), q2 = cs(s - q, r - q);
-          const CosSin r1 = cs(p - r, q - r), r2 = cs(s - r, q - r);
-          if (q1.s * q2.c + q1.c * q2.s <= 0 || r1.s * r2.c + r1.c * r2.s <= 0) return;
-          const double cos_q = q1.c * q2.c - q1.s * q2.s;
-          const double lq = norm(p - q), lx = norm(s - q);
-          const double d2 = lq * lq + lx * lx - 2 * lq * lx * cos_q;
-          visit(x, std::sqrt(std::max(d2, 0.0)));
-        });
-      },
-      [&](uint32_t v) { return v == b; });
-  return sp.distance[b];
+  // A local search (it stops at b): distances live in a per-thread array that is reset only
+  // where the search went, not allocated and filled over the whole mesh for every call.
+  thread_local std::vector<double> distance;
+  thread_local std::vector<uint32_t> touched;
+  if (distance.size() < mesh.num_vertices()) distance.assign(mesh.num_vertices(), INFINITY);
+  touched.clear();
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  distance[a] = 0;
+  touched.push_back(a);
+  queue.push({0.0, a});
+  auto visit = [&](uint32_t v, double d) {
+    if (d < distance[v]) {
+      if (distance[v] == INFINITY) touched.push_back(v);
+      distance[v] = d;
+      queue.push({d, v});
+    }
+  };
+  while (!queue.empty()) {
+    const auto [d, u] = queue.top();
+    queue.pop();
+    if (d > distance[u]) continue;
+    if (u == b) break;
+    mesh.for_each_outgoing(u, [&](uint32_t h) {
+      const uint32_t f = TriMesh::face_of(h);
+      if (!face_allowed(f)) return;
+      // Mesh edges u->v and v's predecessor in the face (both edges of face f at u).
+      visit(mesh.to(h), d + norm(mesh.position(mesh.to(h)) - mesh.position(u)));
+      const uint32_t w = mesh.from(TriMesh::prev(h));
+      visit(w, d + norm(mesh.position(w) - mesh.position(u)));
+      // Across the opposite edge: the far vertex of the neighbouring face, unfolded.
+      const uint32_t opp = TriMesh::next(h), t = mesh.twin(opp);
+      if (t == kInvalid || !face_allowed(TriMesh::face_of(t))) return;
+      const uint32_t x = mesh.from(TriMesh::prev(t));
+      const Vec3 p = mesh.position(u), q = mesh.position(mesh.to(h)), r = mesh.position(w),
+                 s = mesh.position(x);
+      // Unfold face (q, w, x) into the plane of (u, q, w) around edge q-w: the angle at q
+      // (and at w) is the sum of the two faces' angles; below pi on both ends the straight
+      // segment stays inside the two faces. Sums via cos/sin products, without trigonometry.
+      struct CosSin {
+        double c, s;
+      };
+      auto cs = [](Vec3 d1, Vec3 d2) {
+        const double l = norm(d1) * norm(d2);
+        return l > 0 ? CosSin{dot(d1, d2) / l, norm(cross(d1, d2)) / l} : CosSin{1, 0};
+      };
+      const CosSin q1 = cs(p - q, r - q), q2 = cs(s - q, r - q);
+      const CosSin r1 = cs(p - r, q - r), r2 = cs(s - r, q - r);
+      if (q1.s * q2.c + q1.c * q2.s <= 0 || r1.s * r2.c + r1.c * r2.s <= 0) return;
+      const double cos_q = q1.c * q2.c - q1.s * q2.s;
+      const double lq = norm(p - q), lx = norm(s - q);
+      const double d2 = lq * lq + lx * lx - 2 * lq * lx * cos_q;
+      visit(x, d + std::sqrt(std::max(d2, 0.0)));
+    });
+  }
+  const double result = distance[b];
+  for (const uint32_t v : touched) distance[v] = INFINITY;
+  return result;
 }
 
 ShortestPaths face_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& sources,

@@ -1,17 +1,24 @@
 #include "seg/segment.hpp"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
 #include "layout/divide_split.hpp"
 #include "seg/geodesic.hpp"
 
 namespace isoquad {
 
 void measure_geodesic_lengths(const TriMesh& m, const FaceData<uint32_t>& labels, MetaMesh& mm) {
-  for (MetaEdge& e : mm.edges) {
+  // Independent searches: in parallel, each meta-edge's result its own.
+  tbb::parallel_for(std::size_t(0), mm.edges.size(), [&](std::size_t i) {
+    MetaEdge& e = mm.edges[i];
     const double d = geodesic_distance(m, e.vertices.front(), e.vertices.back(), [&](uint32_t f) {
       return labels[f] == e.left || labels[f] == e.right;
     });
     e.geodesic = d < INFINITY ? std::min(d, e.length) : e.length;
-  }
+  });
 }
 
 SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature,
