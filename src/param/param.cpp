@@ -1,13 +1,15 @@
-// Relaxation drivers (DESIGN.md §7.4-7.6): the locked map first (always injective), then either
-// adaptive per-seam-edge stiffening or the paper's global bisection, each solve reusing the one
-// symbolic factorization of SeamSystem.
+// Relaxation drivers (DESIGN.md §7.4-7.6): the locked map (always injective; its own scalar
+// system, solved alongside) and either adaptive per-seam-edge stiffening or the paper's global
+// bisection, each solve reusing the one symbolic factorization of SeamSystem.
 #include "param/param.hpp"
 
 #include <fmt/format.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 
 #include "isoquad/error.hpp"
 #include "param/seam_system.hpp"
@@ -196,24 +198,72 @@ Outcome relax_bisection(const Context& ctx) {
 }  // namespace
 
 Param parametrize(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
-                  const Layout& layout, const ParamOptions& options, ParamReport& report) {
+                  const Layout& layout, const ParamOptions& options, ParamReport& report,
+                  const std::vector<uint32_t>* rank) {
   const auto t_total = Clock::now();
   report.weights = options.weights == WeightKind::smvc ? "smvc" : "mvc";
   static constexpr const char* kRelax[] = {"adaptive", "bisection", "locked", "none"};
   report.relax = kRelax[int(options.relax)];
   report.meta_edges = uint32_t(meta.edges.size());
   auto t0 = Clock::now();
-  SeamSystem system(mesh, labels, meta, layout, options.weights);
+  SeamSystem system(mesh, labels, meta, layout, options.weights, rank);
   report.unknowns = system.unknowns();
   report.setup_seconds = seconds_since(t0);
   const Context ctx{mesh, labels, meta, layout, options, report, system};
 
-  // The locked map: every seam straight, each patch an independent fixed-boundary map.
+  // The locked map (every seam straight, each patch an independent fixed-boundary map) and the
+  // relaxation are independent: they run side by side, each with its own report, and errors are
+  // raised in a fixed order (the locked map's first), whichever thread met them first.
   Param result;
   const EdgeData<double> ones(mesh.num_edges(), 1.0);
   const std::vector<char> all(meta.edges.size(), 1);
-  result.locked = system.solve(ones, all, report);
-  const Certificate locked_cert = certify(mesh, labels, meta, layout, result.locked);
+  Certificate locked_cert;
+  ParamReport locked_report;
+  std::exception_ptr locked_error, relax_error;
+  auto lock = [&] {
+    try {
+      result.locked = system.solve_locked(locked_report);
+      locked_cert = certify(mesh, labels, meta, layout, result.locked);
+    } catch (...) {
+      locked_error = std::current_exception();
+    }
+  };
+  Outcome out;
+  auto relax = [&] {
+    try {
+      switch (options.relax) {
+        case RelaxMode::adaptive:
+          out = relax_adaptive(ctx);
+          break;
+        case RelaxMode::bisection:
+          out = relax_bisection(ctx);
+          break;
+        case RelaxMode::none:
+          out = solve_uniform(ctx, 1.0);
+          report.flipped_unstiffened = report.flipped_first =
+              out.cert.flipped + out.cert.degenerate;
+          out.ok = true;  // returned as is, flips included
+          break;
+        case RelaxMode::locked:
+          break;
+      }
+    } catch (...) {
+      relax_error = std::current_exception();
+    }
+  };
+  if (options.relax == RelaxMode::locked)
+    lock();
+  else
+    tbb::parallel_invoke(lock, relax);
+  report.symbolic += locked_report.symbolic;
+  report.factorizations += locked_report.factorizations;
+  report.solves += locked_report.solves;
+  report.max_residual = std::max(report.max_residual, locked_report.max_residual);
+  report.analyze_seconds += locked_report.analyze_seconds;
+  report.assemble_seconds += locked_report.assemble_seconds;
+  report.factorize_seconds += locked_report.factorize_seconds;
+  report.solve_seconds += locked_report.solve_seconds;
+  if (locked_error) std::rethrow_exception(locked_error);
   if (!locked_cert.ok()) {
     // Either the input has (near) zero-area triangles, or a patch is so unlike its rectangle
     // (a long strip laid out as a square) that the map crowds triangles to zero area.
@@ -237,26 +287,13 @@ Param parametrize(const TriMesh& mesh, const FaceData<uint32_t>& labels, const M
                             f, why));
   }
 
-  Outcome out;
-  switch (options.relax) {
-    case RelaxMode::adaptive:
-      out = relax_adaptive(ctx);
-      break;
-    case RelaxMode::bisection:
-      out = relax_bisection(ctx);
-      break;
-    case RelaxMode::none:
-      out = solve_uniform(ctx, 1.0);
-      report.flipped_unstiffened = report.flipped_first = out.cert.flipped + out.cert.degenerate;
-      out.ok = true;  // returned as is, flips included
-      break;
-    case RelaxMode::locked:
-      out.map = result.locked;
-      out.cert = locked_cert;
-      out.stiffness = ones;
-      out.locked = all;
-      out.ok = true;
-      break;
+  if (relax_error) std::rethrow_exception(relax_error);
+  if (options.relax == RelaxMode::locked) {
+    out.map = result.locked;
+    out.cert = locked_cert;
+    out.stiffness = ones;
+    out.locked = all;
+    out.ok = true;
   }
   if (!out.ok) {  // relaxation gave up: the locked map is certified
     report.fell_back_to_locked = true;

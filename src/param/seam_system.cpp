@@ -65,6 +65,7 @@ struct SeamSystem::Impl {
   const MetaMesh& meta;
   const Layout& layout;
   WeightKind kind;
+  const std::vector<uint32_t>* rank;  // elimination rank per vertex, or null
 
   VertexData<uint32_t> home;
   VertexData<UV> chord;      // seam vertices: chord-length position on the side, home chart
@@ -83,17 +84,20 @@ struct SeamSystem::Impl {
   std::vector<std::array<int32_t, 4>> pair_slot;  // 6 per face: (a, s) -> block slots or -1
   std::vector<std::array<int32_t, 2>> diag_slot;  // per unknown: the (0,0) and (1,1) slots
   uint32_t n = 0;
-  bool analyzed = false;
+  bool patterned = false, analyzed = false;
   // Simplicial: on these sparse 2D-like systems it beats the supernodal factorization.
   Eigen::CholmodSimplicialLLT<SpMat, Eigen::Lower> llt;
   Eigen::UmfPackLU<SpMat> lu;
 
   Impl(const TriMesh& m, const FaceData<uint32_t>& l, const MetaMesh& mm, const Layout& lay,
-       WeightKind k)
-      : mesh(m), labels(l), meta(mm), layout(lay), kind(k) {
+       WeightKind k, const std::vector<uint32_t>* r)
+      : mesh(m), labels(l), meta(mm), layout(lay), kind(k), rank(r) {
+    if (rank && rank->size() != m.num_vertices())
+      throw Error(ErrorKind::internal, "E700",
+                  fmt::format("an elimination order of {} vertices for a mesh of {}", rank->size(),
+                              m.num_vertices()));
     setup_charts();
     setup_weights();
-    setup_pattern();
   }
 
   Lattice lattice_of(uint32_t mv, uint32_t patch) const {
@@ -129,7 +133,10 @@ struct SeamSystem::Impl {
         home[v] = me.left;
       }
     }
-    for (uint32_t v = 0; v < nv; ++v) {
+    // Unknowns are numbered in elimination order when one is given (ordering.hpp).
+    std::vector<uint32_t> visit(nv);
+    for (uint32_t v = 0; v < nv; ++v) visit[rank ? (*rank)[v] : v] = v;
+    for (const uint32_t v : visit) {
       if (meta.vertex_meta_vertex[v] != kInvalid) continue;
       const uint32_t e = meta.vertex_meta_edge[v];
       if (e == kInvalid) {
@@ -200,27 +207,44 @@ struct SeamSystem::Impl {
     return int32_t(it - A.innerIndexPtr());
   }
 
+  // The sparsity pattern, built column by column (the system's pattern is symmetric). A block
+  // R^m has entries on its diagonal (m even) or off it (m odd), never both: the u and v of two
+  // vertices in the same chart are not coupled, which halves the fill. Near a singular
+  // meta-vertex two unknowns may be coupled through faces of different parities: both kinds.
   void setup_pattern() {
-    std::vector<Eigen::Triplet<double>> trip;
-    trip.reserve(std::size_t(mesh.num_faces()) * 24 + 4 * n);
-    // A block R^m has entries on its diagonal (m even) or off it (m odd), never both: the u and
-    // v of two vertices in the same chart are not coupled, which halves the fill.
-    auto block = [&](uint32_t ri, uint32_t rj, int m) {
-      for (int r = 0; r < 2; ++r)
-        for (int c = 0; c < 2; ++c)
-          if (rotation_entry(m, r, c) != 0) trip.emplace_back(2 * ri + r, 2 * rj + c, 0.0);
-    };
-    for (uint32_t r = 0; r < n; ++r) block(r, r, 0);
+    // Per unknown j: (i << 1 | parity) for every unknown i coupled to it, itself included.
+    std::vector<std::vector<uint32_t>> near(n);
+    for (uint32_t j = 0; j < n; ++j) near[j].push_back(j << 1);
     for (uint32_t f = 0; f < mesh.num_faces(); ++f)
       for (int a = 0; a < 3; ++a)
         for (int s = 0; s < 2; ++s) {
           const int b = (a + 1 + s) % 3;
           const uint32_t i = var[mesh.face(f)[a]], j = var[mesh.face(f)[b]];
-          if (i != kInvalid && j != kInvalid) block(i, j, corner_k[f][b] - corner_k[f][a]);
+          if (i != kInvalid && j != kInvalid)
+            near[j].push_back(i << 1 | uint32_t((corner_k[f][b] - corner_k[f][a]) & 1));
         }
+    std::size_t nnz = 0;
+    for (auto& list : near) {
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+      nnz += 2 * list.size();
+    }
     A.resize(2 * n, 2 * n);
-    A.setFromTriplets(trip.begin(), trip.end());  // explicit zeros are kept
-    A.makeCompressed();
+    A.resizeNonZeros(Eigen::Index(nnz));
+    int32_t* outer = A.outerIndexPtr();
+    int32_t* inner = A.innerIndexPtr();
+    std::fill(A.valuePtr(), A.valuePtr() + nnz, 0.0);  // explicit zeros are kept
+    int32_t k = 0;
+    std::vector<int32_t> rows;
+    for (uint32_t j = 0; j < n; ++j)
+      for (uint32_t c = 0; c < 2; ++c) {
+        outer[2 * j + c] = k;
+        rows.clear();
+        for (const uint32_t x : near[j]) rows.push_back(int32_t(2 * (x >> 1) + ((x & 1) ^ c)));
+        std::sort(rows.begin(), rows.end());
+        for (const int32_t r : rows) inner[k++] = r;
+      }
+    outer[2 * n] = k;
     diag_slot.resize(n);
     for (uint32_t r = 0; r < n; ++r)
       diag_slot[r] = {find_slot(2 * r, 2 * r), find_slot(2 * r + 1, 2 * r + 1)};
@@ -252,6 +276,8 @@ struct SeamSystem::Impl {
 
   void assemble(const EdgeData<double>& stiffness, const std::vector<char>& locked,
                 Eigen::VectorXd& rhs) {
+    // On the first solve, not in the constructor: it then overlaps the locked map's solve.
+    if (!patterned) setup_pattern(), patterned = true;
     double* val = A.valuePtr();
     std::fill(val, val + A.nonZeros(), 0.0);
     rhs.setZero(2 * n);
@@ -297,41 +323,50 @@ struct SeamSystem::Impl {
     }
   }
 
-  template <class Solver>
-  Eigen::VectorXd factor_and_solve(Solver& solver, const Eigen::VectorXd& rhs,
-                                   ParamReport& report) {
+  Eigen::VectorXd factor_and_solve_relaxed(auto& solver, const Eigen::VectorXd& rhs,
+                                           ParamReport& report) {
+    // Nested dissection halves the factorization's work on large 2D-like graphs but costs more
+    // than AMD to compute; it pays from a few tens of thousands of vertices on, where the
+    // pipeline passes one of the vertex graph (ordering.hpp) that numbers the unknowns.
+    return factor_and_solve(solver, A, rhs, rank != nullptr, analyzed, report);
+  }
+
+  // Factors M (the symbolic part once, on `analyzed`) and solves for every column of rhs, with up
+  // to two steps of iterative refinement.
+  // `given`: M is numbered in a fill-reducing order already, else AMD orders it.
+  template <class Solver, class Rhs>
+  Rhs factor_and_solve(Solver& solver, const SpMat& M, const Rhs& rhs, bool given,
+                       bool& is_analyzed, ParamReport& report) const {
     auto t0 = Clock::now();
-    if (!analyzed) {
-      // Nested dissection (METIS) halves the factorization's work on large 2D-like graphs but
-      // costs more than AMD to compute; it pays from a few tens of thousands of vertices on.
+    if (!is_analyzed) {
       if constexpr (requires { solver.cholmod(); }) {
         solver.cholmod().nmethods = 1;
-        solver.cholmod().method[0].ordering = A.rows() > 60000 ? CHOLMOD_METIS : CHOLMOD_AMD;
+        solver.cholmod().method[0].ordering = given ? CHOLMOD_NATURAL : CHOLMOD_AMD;
       }
-      solver.analyzePattern(A);
-      analyzed = true;
+      solver.analyzePattern(M);
+      is_analyzed = true;
       ++report.symbolic;
       report.analyze_seconds += seconds_since(t0);
       t0 = Clock::now();
     }
-    solver.factorize(A);
+    solver.factorize(M);
     ++report.factorizations;
     report.factorize_seconds += seconds_since(t0);
     if (solver.info() != Eigen::Success)
       throw Error(ErrorKind::solver, "E551",
                   fmt::format("the parametrization matrix ({} unknowns) could not be factorized; "
                               "the input likely has degenerate triangles - try --repair",
-                              n));
+                              M.rows()));
     t0 = Clock::now();
-    Eigen::VectorXd x = solver.solve(rhs);
-    ++report.solves;
+    Rhs x = solver.solve(rhs);
+    report.solves += uint32_t(rhs.cols());
     const double scale = std::max(rhs.norm(), 1e-300);
-    double residual = (rhs - A * x).norm() / scale;
+    double residual = (rhs - M * x).norm() / scale;
     for (int step = 0; step < 2 && residual > 1e-14; ++step) {  // iterative refinement
-      const Eigen::VectorXd r = rhs - A * x;
+      const Rhs r = rhs - M * x;
       x += solver.solve(r);
-      ++report.solves;
-      residual = (rhs - A * x).norm() / scale;
+      report.solves += uint32_t(rhs.cols());
+      residual = (rhs - M * x).norm() / scale;
     }
     report.solve_seconds += seconds_since(t0);
     report.max_residual = std::max(report.max_residual, residual);
@@ -343,25 +378,67 @@ struct SeamSystem::Impl {
     return x;
   }
 
-  ParamMap solve(const EdgeData<double>& stiffness, const std::vector<char>& locked,
-                 ParamReport& report) {
+  // The map with every meta-edge locked. Then every seam vertex is fixed, the patches do not
+  // interact, and u and v solve the same scalar system on the vertices inside the patches (one
+  // matrix, two right-hand sides): a quarter of the work of the coupled system's factorization,
+  // and independent of it.
+  ParamMap solve_locked(ParamReport& report) const {
     auto t0 = Clock::now();
-    Eigen::VectorXd rhs;
-    assemble(stiffness, locked, rhs);
+    const uint32_t nv = mesh.num_vertices();
+    VertexData<uint32_t> inner(nv, kInvalid);
+    uint32_t m = 0;
+    for (uint32_t v = 0; v < nv; ++v)
+      if (var[v] != kInvalid && meta.vertex_meta_edge[v] == kInvalid) inner[v] = m++;
+    std::vector<Eigen::Triplet<double>> trip;
+    trip.reserve(std::size_t(mesh.num_faces()) * 9);
+    Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(m, 2);
+    for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+      const Tri& t = mesh.face(f);
+      for (int a = 0; a < 3; ++a) {
+        const uint32_t i = inner[t[a]];
+        if (i == kInvalid) continue;
+        for (int s = 0; s < 2; ++s) {
+          const int b = (a + 1 + s) % 3;
+          const double w = weight[f][a][s];
+          trip.emplace_back(i, i, w);
+          const uint32_t j = inner[t[b]];
+          if (j != kInvalid) {
+            trip.emplace_back(i, j, -w);
+          } else {  // fixed: in the face's chart, which is the home chart of corner a
+            const UV c = fixed_uv(f, b);
+            rhs(i, 0) += w * c[0];
+            rhs(i, 1) += w * c[1];
+          }
+        }
+      }
+    }
+    SpMat L(m, m);
+    L.setFromTriplets(trip.begin(), trip.end());
     report.assemble_seconds += seconds_since(t0);
-    const Eigen::VectorXd x = n == 0
-                                  ? Eigen::VectorXd()
-                                  : (kind == WeightKind::smvc ? factor_and_solve(llt, rhs, report)
-                                                              : factor_and_solve(lu, rhs, report));
+    Eigen::MatrixX2d x;
+    if (m > 0) {
+      bool is_analyzed = false;
+      if (kind == WeightKind::smvc) {
+        Eigen::CholmodSimplicialLLT<SpMat, Eigen::Lower> solver;
+        x = factor_and_solve(solver, L, rhs, false, is_analyzed, report);
+      } else {
+        Eigen::UmfPackLU<SpMat> solver;
+        x = factor_and_solve(solver, L, rhs, false, is_analyzed, report);
+      }
+    }
+    return make_map([&](uint32_t v) {
+      const uint32_t i = inner[v];
+      return i == kInvalid ? chord[v] : UV{x(i, 0), x(i, 1)};
+    });
+  }
+
+  // The map from each non-meta-vertex's position in its home chart.
+  ParamMap make_map(auto&& position_of) const {
     ParamMap map;
     map.home = home;
     map.position = VertexData<UV>(mesh.num_vertices(), UV{0, 0});
-    for (uint32_t v = 0; v < mesh.num_vertices(); ++v) {
-      if (meta.vertex_meta_vertex[v] != kInvalid) continue;
-      const uint32_t i = var[v];
-      map.position[v] =
-          (i == kInvalid || is_locked(v, locked)) ? chord[v] : UV{x[2 * i], x[2 * i + 1]};
-    }
+    for (uint32_t v = 0; v < mesh.num_vertices(); ++v)
+      if (meta.vertex_meta_vertex[v] == kInvalid) map.position[v] = position_of(v);
     map.uv = FaceData<std::array<UV, 3>>(mesh.num_faces());
     for (uint32_t f = 0; f < mesh.num_faces(); ++f)
       for (int c = 0; c < 3; ++c) {
@@ -374,11 +451,27 @@ struct SeamSystem::Impl {
       }
     return map;
   }
+
+  ParamMap solve(const EdgeData<double>& stiffness, const std::vector<char>& locked,
+                 ParamReport& report) {
+    auto t0 = Clock::now();
+    Eigen::VectorXd rhs;
+    assemble(stiffness, locked, rhs);
+    report.assemble_seconds += seconds_since(t0);
+    const Eigen::VectorXd x =
+        n == 0 ? Eigen::VectorXd()
+               : (kind == WeightKind::smvc ? factor_and_solve_relaxed(llt, rhs, report)
+                                           : factor_and_solve_relaxed(lu, rhs, report));
+    return make_map([&](uint32_t v) {
+      const uint32_t i = var[v];
+      return (i == kInvalid || is_locked(v, locked)) ? chord[v] : UV{x[2 * i], x[2 * i + 1]};
+    });
+  }
 };
 
 SeamSystem::SeamSystem(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
-                       const Layout& layout, WeightKind weights)
-    : impl_(std::make_unique<Impl>(mesh, labels, meta, layout, weights)) {}
+                       const Layout& layout, WeightKind weights, const std::vector<uint32_t>* rank)
+    : impl_(std::make_unique<Impl>(mesh, labels, meta, layout, weights, rank)) {}
 
 SeamSystem::~SeamSystem() = default;
 
@@ -390,5 +483,7 @@ ParamMap SeamSystem::solve(const EdgeData<double>& stiffness, const std::vector<
                            ParamReport& report) {
   return impl_->solve(stiffness, locked, report);
 }
+
+ParamMap SeamSystem::solve_locked(ParamReport& report) const { return impl_->solve_locked(report); }
 
 }  // namespace isoquad

@@ -15,8 +15,10 @@ namespace isoquad {
 
 class SeamSystem {
  public:
+  // `rank`: an elimination rank per vertex (ordering.hpp) that numbers the unknowns, which are
+  // then factored in that order; null: the unknowns in vertex order, ordered by AMD.
   SeamSystem(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
-             const Layout& layout, WeightKind weights);
+             const Layout& layout, WeightKind weights, const std::vector<uint32_t>* rank = nullptr);
   ~SeamSystem();
   SeamSystem(const SeamSystem&) = delete;
   SeamSystem& operator=(const SeamSystem&) = delete;
@@ -31,6 +33,10 @@ class SeamSystem {
   // with locked[e] != 0 held straight (chord-length positions on their lattice segment).
   ParamMap solve(const EdgeData<double>& stiffness, const std::vector<char>& locked,
                  ParamReport& report);
+
+  // The same with every meta-edge locked, as a scalar system of its own (the patches decouple).
+  // Const: it may run while solve() runs on another thread, with its own report.
+  ParamMap solve_locked(ParamReport& report) const;
 
  private:
   struct Impl;

@@ -6,7 +6,10 @@
 #include <chrono>
 #include <optional>
 
+#include <tbb/parallel_invoke.h>
+
 #include "isoquad/error.hpp"
+#include "param/ordering.hpp"
 #include "pipeline/sizing.hpp"
 
 namespace isoquad {
@@ -52,7 +55,19 @@ namespace {
 void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
   auto t0 = Clock::now();
   const TriMesh& surface = run.surface.mesh;
-  run.seg = segment(surface, run.surface_feature, SegmentOptions::sized(h, o.patches, o.seed));
+  // A large surface's elimination order (param/ordering.hpp) depends on the surface alone: it
+  // is computed on a second thread while the segmentation runs, and serves every map below.
+  std::vector<uint32_t> surface_ranks, ranks;
+  const bool dissect = o.last != Stage::segment && o.last != Stage::layout &&
+                       surface.num_vertices() >= kNestedDissectionVertices;
+  tbb::parallel_invoke(
+      [&] {
+        run.seg =
+            segment(surface, run.surface_feature, SegmentOptions::sized(h, o.patches, o.seed));
+      },
+      [&] {
+        if (dissect) surface_ranks = nested_dissection_ranks(surface);
+      });
   run.segment_seconds += seconds_since(t0);
   if (o.last == Stage::segment) return;
 
@@ -95,8 +110,11 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
   auto param_and_extract = [&] {
     auto t = Clock::now();
     run.param_report = {};
-    run.param = parametrize(run.seg.refined.mesh, run.seg.labels, run.seg.meta, run.layout, o.param,
-                            run.param_report);
+    const TriMesh& mesh = run.seg.refined.mesh;
+    if (dissect && ranks.size() != mesh.num_vertices())  // first map, or refined since
+      ranks = extend_ranks(mesh, surface_ranks);
+    run.param = parametrize(mesh, run.seg.labels, run.seg.meta, run.layout, o.param,
+                            run.param_report, dissect ? &ranks : nullptr);
     run.param_seconds += seconds_since(t);
     if (o.last == Stage::param) return;
 

@@ -5,8 +5,11 @@
 #include <random>
 
 #include "core/predicates.hpp"
+#include "core/refined_mesh.hpp"
 #include "layout/layout.hpp"
+#include "param/ordering.hpp"
 #include "param/param.hpp"
+#include "param/seam_system.hpp"
 #include "param_checks.hpp"
 #include "prep/prepare.hpp"
 #include "seg/segment.hpp"
@@ -165,7 +168,7 @@ TEST(Param, CubeMapIsAScaledIsometryAtTheFirstSolve) {
   ASSERT_EQ(r.seg.num_patches, 6u);
   test::expect_certified(r.mesh(), r.seg.labels, r.seg.meta, r.layout, r.param);
   EXPECT_EQ(r.report.iterations, 1u);
-  EXPECT_EQ(r.report.symbolic, 1u);
+  EXPECT_EQ(r.report.symbolic, 2u);  // the locked scalar system and the coupled one, once each
   EXPECT_EQ(r.report.factorizations, 2u);  // the locked map, then the relaxed one
   const Chart& c = r.layout.charts[0];
   // Every uv edge is the 3D edge scaled by W / (cube edge length).
@@ -187,7 +190,7 @@ TEST(Param, RelaxedSeamsOnASphereAreCertifiedAndConsistent) {
   for (const WeightKind w : {WeightKind::smvc, WeightKind::mvc}) {
     const Mapped r = map_mesh(test::icosphere(4), 12, 600, relax(RelaxMode::adaptive, w));
     test::expect_certified(r.mesh(), r.seg.labels, r.seg.meta, r.layout, r.param);
-    EXPECT_EQ(r.report.symbolic, 1u);
+    EXPECT_EQ(r.report.symbolic, 2u);  // the locked scalar system and the coupled one, once each
     EXPECT_EQ(r.report.factorizations, r.report.iterations + 1);
     EXPECT_LT(r.report.max_residual, 1e-10);
     EXPECT_FALSE(r.report.fell_back_to_locked);
@@ -242,4 +245,76 @@ TEST(Certificate, AngleSumsCatchARingThatWrapsTwice) {
   ASSERT_FALSE(c.bad_vertices.empty());
   EXPECT_EQ(c.bad_vertices.front(), 0u);
   EXPECT_FALSE(c.ok());
+}
+
+TEST(Param, LockedScalarSystemMatchesTheCoupledSystemLocked) {
+  // The locked map is solved as a scalar system of its own; the coupled system with every
+  // meta-edge locked is the same map.
+  for (const WeightKind w : {WeightKind::smvc, WeightKind::mvc}) {
+    SCOPED_TRACE(w == WeightKind::smvc ? "smvc" : "mvc");
+    const Mapped r = map_mesh(test::torus(40, 16), 0, 300, relax(RelaxMode::locked, w));
+    SeamSystem system(r.mesh(), r.seg.labels, r.seg.meta, r.layout, w);
+    ParamReport a, b;
+    const ParamMap scalar = system.solve_locked(a);
+    const ParamMap coupled = system.solve(EdgeData<double>(r.mesh().num_edges(), 1.0),
+                                          std::vector<char>(r.seg.meta.edges.size(), 1), b);
+    EXPECT_EQ(a.factorizations, 1u);
+    double worst = 0;
+    for (uint32_t f = 0; f < r.mesh().num_faces(); ++f)
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 2; ++k)
+          worst = std::max(worst, std::fabs(scalar.uv[f][c][k] - coupled.uv[f][c][k]));
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_TRUE(certify(r.mesh(), r.seg.labels, r.seg.meta, r.layout, scalar).ok());
+  }
+}
+
+TEST(Ordering, NestedDissectionRanksArePermutationsExtendedAfterNeighbours) {
+  const PreparedMesh p = prepare(test::icosphere(5));
+  const TriMesh& mesh = p.components.at(0).mesh;
+  const std::vector<uint32_t> ranks = nested_dissection_ranks(mesh);
+  auto is_permutation = [](std::vector<uint32_t> r) {
+    std::sort(r.begin(), r.end());
+    for (uint32_t i = 0; i < r.size(); ++i)
+      if (r[i] != i) return false;
+    return true;
+  };
+  ASSERT_EQ(ranks.size(), mesh.num_vertices());
+  EXPECT_TRUE(is_permutation(ranks));
+  EXPECT_EQ(ranks, nested_dissection_ranks(mesh));  // deterministic
+  // Split every third edge: each new vertex comes right after its highest-ranked old neighbour.
+  std::vector<uint32_t> edges;
+  for (uint32_t e = 0; e < mesh.num_edges(); e += 3) edges.push_back(e);
+  const RefinedMesh refined = split_edges(identity_refinement(mesh), edges, nullptr, nullptr);
+  const std::vector<uint32_t> extended = extend_ranks(refined.mesh, ranks);
+  ASSERT_EQ(extended.size(), refined.mesh.num_vertices());
+  EXPECT_TRUE(is_permutation(extended));
+  for (uint32_t v = 0; v < mesh.num_vertices(); ++v)  // the old vertices keep their order
+    for (uint32_t w = v + 1; w < std::min(mesh.num_vertices(), v + 50); ++w)
+      EXPECT_EQ(ranks[v] < ranks[w], extended[v] < extended[w]);
+  for (uint32_t v = mesh.num_vertices(); v < refined.mesh.num_vertices(); ++v)
+    refined.mesh.for_each_outgoing(v, [&](uint32_t h) {
+      const uint32_t w = refined.mesh.to(h);
+      if (w < mesh.num_vertices()) {
+        EXPECT_GT(extended[v], extended[w]);
+      }
+    });
+}
+
+TEST(Param, GivenEliminationOrderGivesTheSameMap) {
+  // Unknowns numbered by a nested dissection of the vertex graph (the pipeline's order on large
+  // meshes) solve the same system: the same map up to rounding, certified alike.
+  const Mapped r = map_mesh(test::torus(60, 24), 0, 400, relax(RelaxMode::adaptive));
+  const std::vector<uint32_t> ranks = nested_dissection_ranks(r.mesh());
+  ParamReport report;
+  const Param ordered = parametrize(r.mesh(), r.seg.labels, r.seg.meta, r.layout,
+                                    relax(RelaxMode::adaptive), report, &ranks);
+  test::expect_certified(r.mesh(), r.seg.labels, r.seg.meta, r.layout, ordered);
+  EXPECT_EQ(report.factorizations, r.report.factorizations);
+  double worst = 0;
+  for (uint32_t f = 0; f < r.mesh().num_faces(); ++f)
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 2; ++k)
+        worst = std::max(worst, std::fabs(ordered.map.uv[f][c][k] - r.param.map.uv[f][c][k]));
+  EXPECT_LT(worst, 1e-8);
 }
