@@ -21,7 +21,7 @@ struct RemeshArgs {
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = true, no_untangle = false,
        split_patches = false;
-  uint32_t smooth = 0, fold_rounds = 2;
+  uint32_t smooth = 0, fold_rounds = 2, threads = 0;
   std::vector<double> view;
   int report_width = 1200;
   PrepArgs prep;
@@ -66,6 +66,9 @@ Runner add_remesh(CLI::App& app) {
                   "rounds and the diagonal collapses, the corners are chosen once more, avoiding "
                   "patch corners at flat places (not with 0)")
       ->capture_default_str();
+  sub->add_option("--threads", a->threads,
+                  "Worker threads at most (0: one per core); the output is the same for any count")
+      ->capture_default_str();
   sub->add_option("--report", a->report_dir,
                   "Write pictures (Figures 1 and 3 of the paper), layout.svg, report.json and "
                   "index.html into this folder");
@@ -102,6 +105,7 @@ Runner add_remesh(CLI::App& app) {
     o.fold_rounds = a->fold_rounds;
     o.split_patches = a->split_patches;
     o.improve_corners = a->improve_corners;
+    o.threads = a->threads;
     o.quality = a->json || !a->report_dir.empty();
     const RemeshRun run = remesh_run(read.mesh, o, read.unshared_vertices, say);
     const PolyRemesh& r = run.result;

@@ -4,9 +4,11 @@
 
 #include "commands.hpp"
 #include "isoquad/error.hpp"
+#include "isoquad/remesh.hpp"
 #include "isoquad/version.hpp"
 
 int main(int argc, char** argv) {
+  isoquad::tune_allocator();
   CLI::App app{"isoquad: triangle mesh to pure quad mesh by temperature contours"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("isoquad ") + isoquad::version());

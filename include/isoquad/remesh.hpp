@@ -30,6 +30,7 @@ struct RemeshOptions {
   uint32_t fold_rounds = 2;        // more quads across patches still folded, re-solved this often
   bool split_patches = false;      // every patch four-sided first (the paper's §5 repair)
   bool quality = true;             // measure the output against the input (in `report`)
+  uint32_t threads = 0;            // worker threads at most (0: all cores); same output for any
 };
 
 struct RemeshResult {
@@ -41,5 +42,14 @@ struct RemeshResult {
 
 RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                     const RemeshOptions& options = {});
+
+// Makes the C library keep freed memory for reuse instead of handing large blocks back to the
+// kernel (glibc's mmap and trim thresholds; elsewhere it does nothing). A remesh allocates and
+// frees hundreds of megabytes in blocks of 1-20 MB (factors, per-face arrays), and each block
+// returned to the kernel is faulted in again page by page when the next one is allocated:
+// bunny00 at 1,500 quads spends about 15% of its time so. Process-wide, so the library never
+// calls it itself; the command line and the benchmarks do, and a program that remeshes often
+// may.
+void tune_allocator();
 
 }  // namespace isoquad

@@ -1,9 +1,11 @@
 #include "pipeline/remesh.hpp"
 
 #include <fmt/format.h>
+#include <tbb/global_control.h>
 
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "io/report_json.hpp"
 #include "isoquad/error.hpp"
@@ -51,6 +53,9 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   if (opt.relax != "adaptive" && opt.relax != "bisection" && opt.relax != "locked")
     throw Error(ErrorKind::invalid_input, "E003",
                 fmt::format("unknown relaxation '{}' (adaptive, bisection or locked)", opt.relax));
+  // Parallel stages are deterministic: the thread count changes the time, not the output.
+  std::optional<tbb::global_control> limit;
+  if (opt.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, opt.threads);
   auto t0 = std::chrono::steady_clock::now();
   PrepOptions po;
   po.repair = opt.repair;
@@ -145,7 +150,14 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                       {{"segment", r.segment_seconds},
                        {"layout", r.layout_seconds},
                        {"param", r.param_seconds},
-                       {"extract", r.extract_seconds}}}});
+                       {"extract", r.extract_seconds}}},
+                     {"param_seconds",
+                      {{"setup", r.param_report.setup_seconds},
+                       {"analyze", r.param_report.analyze_seconds},
+                       {"assemble", r.param_report.assemble_seconds},
+                       {"factorize", r.param_report.factorize_seconds},
+                       {"solve", r.param_report.solve_seconds},
+                       {"certify", r.param_report.certify_seconds}}}});
   }
   PolyRemesh& out = run.result;
   out.quads = merge_quads(prep, runs);

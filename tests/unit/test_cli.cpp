@@ -354,3 +354,28 @@ TEST(Cli, RenderTrianglesAndQuads) {
   std::filesystem::remove_all(dir);
   std::filesystem::remove(quads);
 }
+
+TEST(Cli, ThreadCountDoesNotChangeTheOutput) {
+  // bunny00 takes every parallel path: the elimination order beside the segmentation, the
+  // locked map beside the relaxation, the geodesic lengths, the corner refinement.
+  ISOQUAD_CORPUS_MESH(in, "bunny00.off");
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string tag = std::to_string(::getpid());
+  const auto one = dir / ("isoquad_cli_threads1_" + tag + ".obj");
+  const auto two = dir / ("isoquad_cli_threads2_" + tag + ".obj");
+  const CliRun a =
+      run("remesh " + in.string() + " -o " + one.string() + " --quads 1500 --threads 1");
+  ASSERT_EQ(a.status, 0) << a.err;
+  const CliRun b =
+      run("remesh " + in.string() + " -o " + two.string() + " --quads 1500 --threads 2");
+  ASSERT_EQ(b.status, 0) << b.err;
+  auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream s(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(s), {});
+  };
+  const std::string x = slurp(one), y = slurp(two);
+  EXPECT_GT(x.size(), 10000u);
+  EXPECT_TRUE(x == y) << "the output differs between 1 and 2 threads";
+  std::filesystem::remove(one);
+  std::filesystem::remove(two);
+}
