@@ -234,6 +234,8 @@ Roles vertex_roles(const QuadMesh& qm, const TriMesh& seams, const MetaMesh& met
 void untangle_sweeps(QuadMesh& qm, const TriMesh& base, const AabbTree& tree, const TriMesh& seams,
                      const MetaMesh& meta, const UntangleOptions& o, UntangleReport& report,
                      std::vector<int>& worst) {
+  // With collapses to follow, degenerate quads count as folded too (kFoldedAtOrBelow).
+  const double folded_at = o.collapse_rounds > 0 ? kFoldedAtOrBelow : 0.0;
   const uint32_t n = uint32_t(qm.positions.size());
   Roles roles = vertex_roles(qm, seams, meta, o);
   Untangler u{qm,
@@ -264,7 +266,7 @@ void untangle_sweeps(QuadMesh& qm, const TriMesh& base, const AabbTree& tree, co
     worst = 1;
     for (uint32_t f = 0; f < sj.size(); ++f) {
       sj[f] = u.quad_sj(f);
-      folded += sj[f] <= 0;
+      folded += sj[f] <= folded_at;
       worst = std::min(worst, sj[f]);
     }
   };
@@ -313,8 +315,13 @@ void untangle_sweeps(QuadMesh& qm, const TriMesh& base, const AabbTree& tree, co
   measure(report.folded_after, report.min_after);
   report.folded.clear();
   worst.clear();
+  report.nonpositive = report.degenerate = 0;
+  for (uint32_t f = 0; f < sj.size(); ++f) {
+    report.nonpositive += sj[f] <= 0;
+    report.degenerate += sj[f] <= kFoldedAtOrBelow;
+  }
   for (uint32_t f = 0; f < sj.size(); ++f)
-    if (sj[f] <= 0) {
+    if (sj[f] <= folded_at) {
       report.folded.push_back(f);
       const auto c = u.corner_sj(f);
       worst.push_back(int(std::min_element(c.begin(), c.end()) - c.begin()));
@@ -326,6 +333,83 @@ PolyMesh as_poly(const QuadMesh& qm) {
   p.positions = qm.positions;
   for (const auto& q : qm.quads) p.add_face({q[0], q[1], q[2], q[3]});
   return p;
+}
+
+}  // namespace
+
+namespace {
+
+// Replaces quad f by five: a quad inside it and four between the two. Corner k, whose vertex
+// is pinned to a crease or the boundary with an angle near 180 degrees, then has two quads on
+// that side; its inner corner starts nearer to it than the others so that the inner quad does
+// not copy that angle. The new vertices are on the surface (walked to from the opposite
+// corner's face) and free.
+void split_quad_in_five(QuadMesh& qm, const TriMesh& base, uint32_t f, int k) {
+  const std::array<uint32_t, 4> q = qm.quads[f];
+  Vec3 c;
+  for (const uint32_t v : q) c += qm.positions[v];
+  c = c / 4.0;
+  const uint32_t start = qm.surface[q[(k + 2) % 4]].face;
+  std::array<uint32_t, 4> inner{};
+  for (int i = 0; i < 4; ++i) {
+    const double t = i == k ? 0.7 : 0.5;
+    const SurfacePoint s = project_locally(base, start, c + t * (qm.positions[q[i]] - c));
+    inner[i] = uint32_t(qm.positions.size());
+    qm.positions.push_back(position_of(base, s));
+    qm.surface.push_back(s);
+    qm.vertex_meta_vertex.push_back(kInvalid);
+    qm.vertex_meta_edge.push_back(kInvalid);
+    qm.placed.push_back(QuadMesh::Placed::direct);
+    if (!qm.mapped.empty()) qm.mapped.push_back(qm.positions.back());
+    if (!qm.merged.empty()) qm.merged.push_back(0);
+  }
+  qm.quads[f] = inner;
+  for (int i = 0; i < 4; ++i) {
+    const int j = (i + 1) % 4;
+    qm.quads.push_back({q[i], q[j], inner[j], inner[i]});
+    qm.quad_patch.push_back(qm.quad_patch[f]);
+  }
+}
+
+// Folds left where a quad opens to about 180 degrees at a vertex pinned to a crease or the
+// boundary (a patch corner on a straight crease) and no diagonal collapse could remove it: the
+// quad is split in five, so that the vertex has two quads on that side, and swept again; kept
+// if fewer quads fold.
+void split_crease_corners(QuadMesh& qm, const TriMesh& base, const AabbTree& tree,
+                          const TriMesh& seams, const MetaMesh& meta, const UntangleOptions& o,
+                          UntangleReport& report) {
+  const Roles roles = vertex_roles(qm, seams, meta, o);
+  QuadMesh trial = qm;
+  uint32_t split = 0;
+  for (const uint32_t f : report.folded) {
+    const auto& q = qm.quads[f];
+    int k = -1;
+    double widest = 0;
+    for (int i = 0; i < 4; ++i) {
+      if (!roles.fixed[q[i]] && !roles.slide[q[i]]) continue;
+      const Vec3 a = qm.positions[q[(i + 1) % 4]] - qm.positions[q[i]];
+      const Vec3 b = qm.positions[q[(i + 3) % 4]] - qm.positions[q[i]];
+      const double angle = std::atan2(norm(cross(a, b)), dot(a, b));
+      if (angle > widest) widest = angle, k = i;
+    }
+    if (k < 0 || widest < 150.0 * std::numbers::pi / 180.0) continue;
+    split_quad_in_five(trial, base, f, k);
+    ++split;
+  }
+  if (split == 0) return;
+  UntangleReport again;
+  std::vector<int> worst;
+  untangle_sweeps(trial, base, tree, seams, meta, o, again, worst);
+  if (!(fold_score(again) < fold_score(report))) return;
+  qm = std::move(trial);
+  report.folded_after = again.folded_after;
+  report.min_after = again.min_after;
+  report.folded = std::move(again.folded);
+  report.nonpositive = again.nonpositive;
+  report.degenerate = again.degenerate;
+  report.rounds += again.rounds;
+  report.moves += again.moves;
+  report.split = split;
 }
 
 }  // namespace
@@ -344,7 +428,7 @@ void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, con
   // A collapse can pass a fold to a neighbour, which the next round removes (fandisk at 1,500
   // quads: 1 -> 1 -> 0; rotor 3 -> 4 -> ...), so every round runs; the best mesh seen (fewest
   // folds, then the highest lowest corner) is kept.
-  auto score = [](const UntangleReport& r) { return std::pair(r.folded.size(), -r.min_after); };
+  auto score = [](const UntangleReport& r) { return std::pair(fold_score(r), -r.min_after); };
   QuadMesh best = qm;
   UntangleReport best_report = report;
   for (uint32_t round = 0; round < o.collapse_rounds && !report.folded.empty(); ++round) {
@@ -370,6 +454,8 @@ void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, con
     report.folded_after = again.folded_after;
     report.min_after = again.min_after;
     report.folded = std::move(again.folded);
+    report.nonpositive = again.nonpositive;
+    report.degenerate = again.degenerate;
     worst = std::move(worst_again);
     report.rounds += again.rounds;
     report.moves += again.moves;
@@ -386,6 +472,8 @@ void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, con
   best_report.moves = report.moves;
   qm = std::move(best);
   report = std::move(best_report);
+  if (o.split_crease_corners && o.collapse_rounds > 0 && !report.folded.empty())
+    split_crease_corners(qm, base, tree, seams, meta, o, report);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

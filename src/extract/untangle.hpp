@@ -11,7 +11,11 @@
 // must keep the vertex's original surface point close to its quads (`fidelity`), so tips are
 // not cut off. Deterministic (fixed visiting order and trial positions).
 // Quads the sweeps leave folded then lose a diagonal (extract/collapse.hpp) and the sweeps run
-// again, for `collapse_rounds` rounds; the mesh with the fewest folds is kept. The reach and
+// again, for `collapse_rounds` rounds; the mesh with the fewest folds is kept. A quad still
+// folded there whose widest corner (at least 150 degrees) is at a vertex held to a crease or
+// the boundary is then split in five, an inner quad and four around it, so that the vertex has
+// two quads on that side; the new vertices are free, the sweeps place them, and the split is
+// kept if fewer quads fold. The reach and
 // fidelity bounds stay measured from where the first call found each vertex (QuadMesh::mapped).
 // The pipeline runs them once, after its fold rounds (pipeline.cpp). Corpus at 1,500 quads,
 // after the rounds: 19 folded quads -> 10 with the collapses (cow 8 -> 6, mech-holes-shark 4 -> 0,
@@ -29,12 +33,21 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "extract/extract.hpp"
 #include "layout/meta_mesh.hpp"
 
 namespace isoquad {
+
+// Where collapses follow (collapse_rounds > 0), a quad counts as folded at a surface scaled
+// Jacobian at or below this, not only at or below 0: a corner of exactly 180 degrees (a patch
+// corner on a straight crease) reads 0 give or take rounding, +3e-16 here and -1e-16 in
+// `isoquad quality` after the output's scaling, and is degenerate either way. Before (the
+// pipeline's fold rounds), only quads at or below 0: counting these there too cost folded
+// quads on the corpus (cow 2 -> 3 at 1,500 quads and 2 -> 4 at the default size).
+constexpr double kFoldedAtOrBelow = 1e-3;
 
 struct UntangleOptions {
   double target = 0.1;       // quads whose surface scaled Jacobian is below this are worked on
@@ -50,17 +63,29 @@ struct UntangleOptions {
   // Rounds of diagonal collapses (extract/collapse.hpp) for quads the sweeps leave folded.
   uint32_t collapse_rounds = 3;
   double collapse_offset = 0.25;  // how far (in h) a removed corner may be from the new quads
+  // Quads still folded at a crease or boundary vertex they open to about 180 degrees are split
+  // in five (untangle.cpp split_crease_corners), after the collapses.
+  bool split_crease_corners = true;
 };
 
 struct UntangleReport {
-  uint32_t folded_before = 0, folded_after = 0;  // quads with surface scaled Jacobian <= 0
-  std::vector<uint32_t> folded;                  // those left at the end, in order
-  double min_before = 1, min_after = 1;          // smallest surface scaled Jacobian
+  // Quads with surface scaled Jacobian <= 0, or <= kFoldedAtOrBelow where collapses follow.
+  uint32_t folded_before = 0, folded_after = 0;
+  std::vector<uint32_t> folded;          // those left at the end, in order
+  double min_before = 1, min_after = 1;  // smallest surface scaled Jacobian
   uint32_t rounds = 0, moves = 0;
   uint32_t collapsed = 0, doublets = 0;  // quads removed by diagonal collapses, and doublets
   uint32_t refused = 0;                  // folded quads no diagonal could be collapsed in
+  uint32_t split = 0;                    // quads split in five at a 180-degree crease corner
+  uint32_t nonpositive = 0;              // at the end: quads with surface scaled Jacobian <= 0
+  uint32_t degenerate = 0;               // and <= kFoldedAtOrBelow (those included)
   double seconds = 0;
 };
+
+// How repairs compare: fewer quads at or below 0 first, then fewer degenerate ones.
+inline std::pair<uint32_t, uint32_t> fold_score(const UntangleReport& r) {
+  return {r.nonpositive, r.degenerate};
+}
 
 // `base` is the surface the quads' SurfacePoints refer to.
 // `seams` is the mesh whose vertices the meta-edges list (`base` with its dividing edges split).

@@ -157,6 +157,9 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
     r.collapsed = last.collapsed;
     r.doublets = last.doublets;
     r.refused = last.refused;
+    r.split = last.split;
+    r.nonpositive = last.nonpositive;
+    r.degenerate = last.degenerate;
     r.seconds += last.seconds;
     run.extract_seconds += seconds_since(t);
   };
@@ -204,7 +207,7 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
         undo();
         break;
       }
-      if (run.untangle_report.folded.size() >= before.untangle_report.folded.size()) {
+      if (run.untangle_report.nonpositive >= before.untangle_report.nonpositive) {
         undo();
         break;
       }
@@ -217,7 +220,7 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
     // each that their rounds had removed; where the collapses alone removed every fold and the
     // rounds were skipped, three_peaks at the default size came out at 1.91% Hausdorff instead
     // of 0.77% (fandisk at 1,500 quads would save its one wasted round, about 40 ms).
-    if (!run.untangle_report.folded.empty()) collapse_folds(run.quads, run.untangle_report);
+    if (run.untangle_report.degenerate > 0) collapse_folds(run.quads, run.untangle_report);
   };
   repair_folds();
 
@@ -247,7 +250,7 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
     if (beta > 0) tries.push_back({0, 0, 2 * beta});
   }
   for (const CornerTry& t : tries) {
-    if (run.untangle_report.folded.empty()) break;
+    if (run.untangle_report.degenerate == 0) break;
     ComponentRun before = run;
     lo.flat_corner_penalty = t.flat;
     lo.flat_crease_corner_penalty = t.crease;
@@ -264,7 +267,7 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
         run.layout_seconds += seconds_since(t0);
         param_and_extract();
         repair_folds();
-        keep = run.untangle_report.folded.size() < before.untangle_report.folded.size();
+        keep = fold_score(run.untangle_report) < fold_score(before.untangle_report);
         break;
       } catch (const Error& e) {
         if (e.code() != "E553" && e.code() != "E502" && e.code() != "E402" && e.code() != "E401")
