@@ -100,7 +100,7 @@ struct Param {
 // \throw Error(solver, E551) when a factorization fails, Error(solver, E552) when a solve stays
 //        inaccurate after refinement, Error(solver, E553) when even the locked map is not
 //        injective (degenerate input triangles).
-// `rank`: an elimination rank per vertex of `mesh` (param/ordering.hpp), or null (AMD).
+// `rank`: an elimination rank per vertex of `mesh` (param/ordering.hpp), or null (CHOLMOD orders).
 Param parametrize(const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta,
                   const Layout& layout, const ParamOptions& options, ParamReport& report,
                   const std::vector<uint32_t>* rank = nullptr);
