@@ -19,7 +19,7 @@ namespace {
 struct RemeshArgs {
   std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global";
   PatchArgs patch;
-  bool json = false, quiet = false, improve_corners = true, no_untangle = false,
+  bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
        split_patches = false;
   uint32_t smooth = 0, fold_rounds = 2, threads = 0;
   std::vector<double> view;
@@ -59,6 +59,10 @@ Runner add_remesh(CLI::App& app) {
   sub->add_flag("--no-untangle", a->no_untangle,
                 "Keep the lattice points where the map puts them, even where a quad folds "
                 "against the surface (by default such quads' corners are moved along it)");
+  sub->add_flag("--no-snap", a->no_snap,
+                "Leave the quads' corners where extraction and untangling put them, even where "
+                "the quads cut off a tip of the surface (by default nearby corners are moved "
+                "onto such tips where that makes no quad worse than a scaled Jacobian of 0.2)");
   sub->add_option("--fold-rounds", a->fold_rounds,
                   "Where quads still fold after untangling, give their patches one more quad "
                   "across and solve the lengths, map and quads again, at most this often (a round "
@@ -102,6 +106,7 @@ Runner add_remesh(CLI::App& app) {
     o.repair = a->prep.repair;
     o.smooth = a->smooth;
     o.untangle = !a->no_untangle;
+    o.snap = !a->no_snap;
     o.fold_rounds = a->fold_rounds;
     o.split_patches = a->split_patches;
     o.improve_corners = a->improve_corners;

@@ -27,6 +27,7 @@ struct RemeshOptions {
   bool repair = false;             // detach non-manifold edges, drop degenerate faces
   uint32_t smooth = 0;             // tangential smoothing iterations on the surface
   bool untangle = true;            // move corners of quads folded against the surface
+  bool snap = true;                // move corners onto tips the quads cut off (extract/snap.hpp)
   uint32_t fold_rounds = 2;        // more quads across patches still folded, re-solved this often
   bool split_patches = false;      // every patch four-sided first (the paper's §5 repair)
   bool quality = true;             // measure the output against the input (in `report`)

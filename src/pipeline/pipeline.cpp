@@ -287,6 +287,14 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
       run.corner_try_kept = run.corner_tries;
     }
   }
+  // Last, on the quads kept: tips they cut off (only moves that make no fold).
+  if (o.snap) {
+    t0 = Clock::now();
+    SnapOptions so;
+    so.edge_length = run.layout.edge_length;
+    snap_tips(run.quads, surface, run.seg.refined.mesh, run.seg.meta, so, run.snap_report);
+    run.extract_seconds += seconds_since(t0);
+  }
   to_component_points();
 }
 

@@ -10,6 +10,7 @@
 #include "core/poly_mesh.hpp"
 #include "extract/extract.hpp"
 #include "extract/smooth.hpp"
+#include "extract/snap.hpp"
 #include "extract/untangle.hpp"
 #include "layout/layout.hpp"
 #include "param/param.hpp"
@@ -30,6 +31,7 @@ struct PipelineOptions {
   ParamOptions param;
   uint32_t smooth = 0;   // tangential smoothing iterations after extraction
   bool untangle = true;  // repair quads folded against the surface (extract/untangle.hpp)
+  bool snap = true;      // move quad corners onto tips the quads cut off (extract/snap.hpp)
   // Rounds of more quads across the patches whose quads are still folded after untangling
   // (layout/layout.hpp thicken_patches); a round is kept only if fewer quads fold.
   uint32_t fold_rounds = 2;
@@ -73,6 +75,7 @@ struct ComponentRun {
   ExtractReport extract_report;
   SmoothReport smooth_report;
   UntangleReport untangle_report;
+  SnapReport snap_report;
   double segment_seconds = 0, layout_seconds = 0, param_seconds = 0, extract_seconds = 0;
 };
 

@@ -34,6 +34,7 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"repair", o.repair},
           {"smooth", o.smooth},
           {"untangle", o.untangle},
+          {"snap", o.snap},
           {"fold_rounds", o.fold_rounds},
           {"split_patches", o.split_patches}};
 }
@@ -74,6 +75,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.seed = opt.seed;
   o.smooth = opt.smooth;
   o.untangle = opt.untangle;
+  o.snap = opt.snap;
   o.fold_rounds = opt.fold_rounds;
   o.quad_split = opt.split_patches;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
@@ -141,6 +143,14 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"nonpositive", r.untangle_report.nonpositive},
                        {"degenerate", r.untangle_report.degenerate},
                        {"seconds", r.untangle_report.seconds}}},
+                     {"snap",
+                      {{"tips", r.snap_report.tips},
+                       {"gaps", r.snap_report.gaps},
+                       {"snapped", r.snap_report.snapped},
+                       {"left", r.snap_report.left},
+                       {"farthest_before", r.snap_report.farthest_before},
+                       {"farthest_after", r.snap_report.farthest_after},
+                       {"seconds", r.snap_report.seconds}}},
                      {"fell_back_to_locked", r.param_report.fell_back_to_locked},
                      {"lattice_points",
                       {{"direct", r.extract_report.direct},

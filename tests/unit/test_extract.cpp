@@ -5,6 +5,7 @@
 
 #include "extract/collapse.hpp"
 #include "extract/extract.hpp"
+#include "extract/snap.hpp"
 #include "extract/surface_walk.hpp"
 #include "extract/untangle.hpp"
 #include "isoquad/error.hpp"
@@ -27,10 +28,12 @@ struct Remeshed {
 };
 
 Remeshed remesh_shape(const PolyMesh& m, uint32_t k, double quads,
-                      WeightKind weights = WeightKind::smvc, bool untangle = true) {
+                      WeightKind weights = WeightKind::smvc, bool untangle = true,
+                      bool snap = true) {
   Remeshed r{prepare(m), {}, {}};
   PipelineOptions o;
   o.untangle = untangle;
+  o.snap = snap;
   o.param.weights = weights;
   o.patches = k;
   o.quads = quads;
@@ -288,6 +291,56 @@ TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {
       EXPECT_EQ(q.positions[v], r.run.quads.positions[v]);
     }
   }
+}
+
+// A sphere with small bumps, each narrower than a quad: the quads cut most of them off. Tip
+// snapping brings corners onto them: the farthest surface vertex comes closer, so does the
+// two-sided distance as `isoquad quality` measures it, no quad folds or gets worse than a
+// scaled Jacobian of 0.2 that was better, the connectivity is the same, every corner stays on
+// the surface, and the result does not depend on the run.
+TEST(Snap, MovesCornersOntoTipsTheQuadsCutOff) {
+  PolyMesh bumpy = test::icosphere(4);
+  for (std::size_t v = 0; v < bumpy.positions.size(); v += 97)
+    bumpy.positions[v] = 1.12 * bumpy.positions[v];
+  const Remeshed r = remesh_shape(bumpy, 0, 300, WeightKind::smvc, true, false);
+  ASSERT_EQ(r.run.snap_report.tips, 0u);  // not run
+  const TriMesh& base = r.prep.components[0].mesh;
+  QuadMesh q = r.run.quads, again = r.run.quads;
+  SnapOptions so;
+  so.edge_length = r.run.layout.edge_length;
+  SnapReport report, report2;
+  snap_tips(q, base, r.run.seg.refined.mesh, r.run.seg.meta, so, report);
+  snap_tips(again, base, r.run.seg.refined.mesh, r.run.seg.meta, so, report2);
+  EXPECT_GE(report.tips, 10u);
+  EXPECT_GT(report.snapped, 0u);
+  EXPECT_LT(2 * report.left, report.tips);  // 61 tips, 24 left when this was written
+  EXPECT_LT(report.farthest_after, report.farthest_before);
+
+  const PolyMesh reference = component_as_poly(base);
+  auto as_poly = [](const QuadMesh& m) {
+    PolyMesh p;
+    p.positions = m.positions;
+    for (const auto& f : m.quads) p.add_face({f[0], f[1], f[2], f[3]});
+    return p;
+  };
+  const QualityReport before = measure_quality(as_poly(r.run.quads), &reference);
+  const QualityReport after = measure_quality(as_poly(q), &reference);
+  EXPECT_LT(after.hausdorff, before.hausdorff);
+  EXPECT_LT(after.mean_distance, 0.95 * before.mean_distance);
+  EXPECT_LE(after.sj_surface_nonpositive, before.sj_surface_nonpositive);
+  EXPECT_TRUE(after.same_topology || !before.same_topology);
+  const std::vector<double> sj0 = surface_scaled_jacobians(as_poly(r.run.quads), reference);
+  const std::vector<double> sj1 = surface_scaled_jacobians(as_poly(q), reference);
+  for (std::size_t f = 0; f < sj0.size(); ++f) EXPECT_GE(sj1[f], std::min(sj0[f], 0.2) - 1e-9);
+  EXPECT_EQ(q.quads, r.run.quads.quads);
+  uint32_t moved = 0;
+  for (std::size_t v = 0; v < q.positions.size(); ++v) {
+    EXPECT_LT(norm(position_of(base, q.surface[v]) - q.positions[v]), 1e-12);
+    EXPECT_EQ(q.positions[v], again.positions[v]);
+    moved += !(q.positions[v] == r.run.quads.positions[v]);
+  }
+  EXPECT_GT(moved, 0u);
+  EXPECT_LE(moved, report.snapped);
 }
 
 // Folds put in by hand (a free vertex pushed past its neighbour along the surface, in several
