@@ -5,6 +5,10 @@
 #include <cmath>
 #include <optional>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include "extract/surface_walk.hpp"
 #include "metrics/aabb_tree.hpp"
 
@@ -74,17 +78,20 @@ struct Snapper {
   }
 
   // Every surface vertex's closest quad, from scratch.
-  void assign_surface_vertices() {
-    const AabbTree quads(fan_triangles(qm));
-    closest.resize(base.num_vertices());
-    distance.resize(base.num_vertices());
+  // The queries are independent (in parallel); the lists are filled in vertex order.
+  void assign_surface_vertices(const AabbTree& quads) {
+    const uint32_t nb = base.num_vertices();
+    closest.resize(nb);
+    distance.resize(nb);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, nb, 1024), [&](const auto& r) {
+      for (uint32_t b = r.begin(); b < r.end(); ++b) {
+        const AabbTree::Hit hit = quads.closest(base.position(b));
+        closest[b] = hit.triangle / 2;
+        distance[b] = hit.distance;
+      }
+    });
     assigned.assign(qm.quads.size(), {});
-    for (uint32_t b = 0; b < base.num_vertices(); ++b) {
-      const AabbTree::Hit hit = quads.closest(base.position(b));
-      closest[b] = hit.triangle / 2;
-      distance[b] = hit.distance;
-      assigned[hit.triangle / 2].push_back(b);
-    }
+    for (uint32_t b = 0; b < nb; ++b) assigned[closest[b]].push_back(b);
   }
 
   // The smallest scaled Jacobian of quad f's corners against the surface normal just inside
@@ -273,15 +280,23 @@ void snap_tips(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, const Me
   report = {};
   const uint32_t n = uint32_t(qm.positions.size());
   const double h = o.edge_length, far = o.far * h;
-  std::vector<std::array<Vec3, 3>> base_tris;
-  for (const Tri& t : base.faces())
-    base_tris.push_back({base.position(t[0]), base.position(t[1]), base.position(t[2])});
-  const AabbTree surface(std::move(base_tris));
+  std::optional<AabbTree> surface_tree, quad_tree;
+  tbb::parallel_invoke(
+      [&] {
+        std::vector<std::array<Vec3, 3>> t;
+        t.reserve(base.num_faces());
+        for (const Tri& f : base.faces())
+          t.push_back({base.position(f[0]), base.position(f[1]), base.position(f[2])});
+        surface_tree.emplace(std::move(t));
+      },
+      [&] { quad_tree.emplace(fan_triangles(qm)); });
+  const AabbTree& surface = *surface_tree;
   Snapper s{qm, base, surface, far, o.min_sj, {}, {}, {}, {}};
   s.around.resize(n);
   for (uint32_t f = 0; f < qm.quads.size(); ++f)
     for (const uint32_t v : qm.quads[f]) s.around[v].push_back(f);
-  s.assign_surface_vertices();
+  s.assign_surface_vertices(*quad_tree);
+  quad_tree.reset();
   const Roles roles = snap_roles(qm, meta);
   auto on_meta_edge = [&](uint32_t e, const Vec3& x) {
     for (const uint32_t w : meta.edges[e].vertices)
@@ -354,12 +369,16 @@ void snap_tips(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, const Me
     }
     return gap;
   };
+  std::vector<double> gap_of(qm.quads.size());
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(qm.quads.size()), 256),
+                    [&](const auto& r) {
+                      Vec3 target;
+                      for (uint32_t f = r.begin(); f < r.end(); ++f)
+                        gap_of[f] = centroid_gap(f, target);
+                    });
   std::vector<std::pair<double, uint32_t>> gaps;
-  for (uint32_t f = 0; f < qm.quads.size(); ++f) {
-    Vec3 target;
-    const double gap = centroid_gap(f, target);
-    if (gap > far) gaps.push_back({-gap, f});
-  }
+  for (uint32_t f = 0; f < qm.quads.size(); ++f)
+    if (gap_of[f] > far) gaps.push_back({-gap_of[f], f});
   std::sort(gaps.begin(), gaps.end());
   report.gaps = uint32_t(gaps.size());
   for (const auto& [gap, f] : gaps) {
