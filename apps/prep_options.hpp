@@ -2,6 +2,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <map>
+#include <string>
 
 #include "io/read_mesh.hpp"
 #include "pipeline/sizing.hpp"
@@ -53,7 +55,10 @@ struct PatchArgs {
 };
 
 inline void add_patch_options(CLI::App& sub, PatchArgs& a) {
-  sub.add_option("--patches", a.patches, "Number of patches K (default: automatic)");
+  sub.add_option("--patches", a.patches,
+                 "Number of patches K, or auto (the default): K from the VSA error drop, "
+                 "bounded by the target size")
+      ->transform(CLI::Transformer(std::map<std::string, std::string>{{"auto", "0"}}));
   auto* el =
       sub.add_option("--edge-length", a.edge_length, "Target quad edge length (input units)");
   sub.add_option("--quads", a.quads, "Target number of quads (the size is tuned to land near it)")

@@ -356,6 +356,24 @@ TEST(Cli, RenderTrianglesAndQuads) {
   std::filesystem::remove(quads);
 }
 
+// `--patches auto` is the default (the issue's `--patches K|auto`); a K that is neither a
+// count nor auto is refused with a message that names the option.
+TEST(Cli, PatchesAutoIsTheDefault) {
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const CliRun a = run("segment " + sphere + " --json");
+  const CliRun b = run("segment " + sphere + " --patches auto --json");
+  ASSERT_EQ(a.status, 0) << a.err;
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_GT(a.out.size(), 100u);
+  EXPECT_EQ(a.out, b.out);
+  const CliRun c = run("segment " + sphere + " --patches 6 --json");
+  ASSERT_EQ(c.status, 0) << c.err;
+  EXPECT_NE(c.out, a.out);
+  const CliRun d = run("segment " + sphere + " --patches many");
+  EXPECT_NE(d.status, 0);
+  EXPECT_NE(d.err.find("--patches"), std::string::npos) << d.err;
+}
+
 TEST(Cli, ThreadCountDoesNotChangeTheOutput) {
   // bunny00 takes every parallel path: the elimination order beside the segmentation, the
   // locked map beside the relaxation, the geodesic lengths, the corner refinement.
