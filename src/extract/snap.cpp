@@ -11,6 +11,7 @@
 
 #include "extract/surface_walk.hpp"
 #include "metrics/aabb_tree.hpp"
+#include "metrics/quality.hpp"
 
 namespace isoquad {
 
@@ -182,10 +183,17 @@ struct Snapper {
     }
   }
 
-  // v's quads' scaled Jacobians before its move: against the corners' face normals (`rough`)
-  // and, measured on first use, exactly.
+  // Quad f's scaled Jacobian against its own (Newell) normal, as `isoquad quality` counts it.
+  double own_sj(uint32_t f) const {
+    const auto& q = qm.quads[f];
+    const auto& p = qm.positions;
+    return quad_scaled_jacobian({p[q[0]], p[q[1]], p[q[2]], p[q[3]]});
+  }
+
+  // v's quads' scaled Jacobians before its move: against their own normals, against the
+  // corners' face normals (`rough`) and, measured on first use, against the surface.
   struct Shape {
-    std::vector<double> rough;
+    std::vector<double> own, rough;
     std::optional<std::vector<double>> exact;
   };
 
@@ -203,7 +211,8 @@ struct Snapper {
     place(position_of(base, s), s);
     bool ok = true;
     for (std::size_t i = 0; ok && i < around[v].size(); ++i)
-      ok = surface_sj(around[v][i], true) >= std::min(shape.rough[i], min_sj) - kRoughMargin;
+      ok = surface_sj(around[v][i], true) >= std::min(shape.rough[i], min_sj) - kRoughMargin &&
+           own_sj(around[v][i]) >= std::min(shape.own[i], min_sj);
     if (ok && !shape.exact) {
       place(old_p, old_s);
       shape.exact.emplace();
@@ -334,7 +343,10 @@ void snap_tips(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, const Me
       const SurfacePoint onto = project_locally(base, qm.surface[v].face, x);
       if (norm(position_of(base, onto) - x) > 1e-9 * h) continue;  // not reached over the surface
       Snapper::Shape shape;
-      for (const uint32_t g : s.around[v]) shape.rough.push_back(s.surface_sj(g, true));
+      for (const uint32_t g : s.around[v]) {
+        shape.rough.push_back(s.surface_sj(g, true));
+        shape.own.push_back(s.own_sj(g));
+      }
       std::optional<Snapper::Local> before;
       const Vec3 p0 = qm.positions[v];
       const uint32_t face0 = qm.surface[v].face;

@@ -6,10 +6,10 @@
 // surface from where they are, so they stay on the sheet they were on. A move is taken only if
 // the distance between the surface and the quads it changes drops (both ways: surface
 // vertices to the quads and points of the moved quads to the surface), no surface vertex near
-// them ends farther than max(its distance before, far / 2), and no moved quad's scaled
-// Jacobian against the surface falls below min(its value before, `min_sj`), so no fold is
-// made. Vertices on creases and the mesh boundary move only onto tips on their own crease or
-// boundary (so they stay on it); meta-vertices where creases or the boundary meet stay.
+// them ends farther than max(its distance before, `far`), and no moved quad's scaled Jacobian,
+// against the surface or against its own normal, falls below min(its value before, `min_sj`),
+// so no fold is made. Vertices on creases and the mesh boundary move only onto tips on their own
+// crease or boundary (so they stay on it); meta-vertices where creases or the boundary meet stay.
 // Deterministic: tips in order of distance, then vertex id.
 #pragma once
 
@@ -24,7 +24,7 @@ struct SnapOptions {
   double edge_length = 0;  // the target quad edge h (mesh units): the unit of the two below
   double far = 0.25;       // surface vertices farther than this from the quads are tips
   double reach = 2.5;      // a quad corner is moved onto a tip at most this far away
-  double min_sj = 0.2;     // no moved quad's scaled Jacobian falls below min(before, this)
+  double min_sj = 0.2;     // no moved quad's scaled Jacobians fall below min(before, this)
 };
 
 struct SnapReport {

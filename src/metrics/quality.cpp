@@ -288,6 +288,13 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
   return q;
 }
 
+double quad_scaled_jacobian(const std::array<Vec3, 4>& q) {
+  PolyMesh m;
+  m.positions.assign(q.begin(), q.end());
+  m.add_face({0, 1, 2, 3});
+  return face_shape(m, 0, nullptr).sj;
+}
+
 std::vector<double> surface_scaled_jacobians(const PolyMesh& quads, const PolyMesh& reference) {
   const AabbTree tree(fan_triangles(reference));
   std::vector<double> sj(quads.num_faces());

@@ -3,6 +3,8 @@
 // the input surface (two-sided, area-sampled, over the input's bounding-box diagonal).
 #pragma once
 
+#include <array>
+
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -59,6 +61,11 @@ Topology topology_of(const PolyMesh& m, bool* edge_manifold, bool* vertex_manifo
 // comparison, surface-normal Jacobians and distances.
 QualityReport measure_quality(const PolyMesh& quads, const PolyMesh* reference,
                               const QualityOptions& options = {});
+
+// The scaled Jacobian of the quad (q0, q1, q2, q3) against its Newell normal, as
+// QualityReport's per-quad value: the minimum over its corners of n . (e1 x e2)/(|e1||e2|), 0 at
+// a corner with an edge of length 0.
+double quad_scaled_jacobian(const std::array<Vec3, 4>& q);
 
 // Per face, the scaled Jacobian against the reference's normal at each corner (as
 // QualityReport::sj_surface_min): <= 0 marks a folded face.
