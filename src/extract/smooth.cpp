@@ -5,25 +5,14 @@
 #include <cmath>
 
 #include "extract/surface_walk.hpp"
+#include "metrics/quality.hpp"
 
 namespace isoquad {
 
 namespace {
 
 double quad_sj(const std::vector<Vec3>& x, const std::array<uint32_t, 4>& q) {
-  Vec3 n;
-  for (int i = 0; i < 4; ++i) {
-    const Vec3 &a = x[q[i]], &b = x[q[(i + 1) % 4]];
-    n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
-  }
-  n = normalized(n);
-  double sj = 1;
-  for (int i = 0; i < 4; ++i) {
-    const Vec3 e1 = x[q[(i + 1) % 4]] - x[q[i]], e2 = x[q[(i + 3) % 4]] - x[q[i]];
-    const double l = norm(e1) * norm(e2);
-    sj = std::min(sj, l > 0 ? dot(n, cross(e1, e2)) / l : 0.0);
-  }
-  return sj;
+  return quad_scaled_jacobian({x[q[0]], x[q[1]], x[q[2]], x[q[3]]});
 }
 
 }  // namespace
