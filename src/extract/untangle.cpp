@@ -335,10 +335,6 @@ PolyMesh as_poly(const QuadMesh& qm) {
   return p;
 }
 
-}  // namespace
-
-namespace {
-
 // Replaces quad f by five: a quad inside it and four between the two. Corner k, whose vertex
 // is pinned to a crease or the boundary with an angle near 180 degrees, then has two quads on
 // that side; its inner corner starts nearer to it than the others so that the inner quad does

@@ -28,32 +28,28 @@ uint64_t edge_key(uint32_t a, uint32_t b) {
   return (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
 }
 
-Vec3 newell_normal(const PolyMesh& m, std::size_t f) {
-  const auto vs = m.face(f);
-  Vec3 n;
-  for (std::size_t i = 0; i < vs.size(); ++i) {
-    const Vec3& a = m.positions[vs[i]];
-    const Vec3& b = m.positions[vs[(i + 1) % vs.size()]];
-    n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
-  }
-  return normalized(n);
-}
-
 struct FaceShape {
   double sj = INFINITY;          // against the face's Newell normal
   double sj_surface = INFINITY;  // against the reference's normal at each corner
   double angle_deviation_sum = 0, angle_deviation_max = 0;  // |corner angle - 90| in degrees
 };
 
-// The scaled Jacobian of face f: the minimum over its corners of n . (e1 x e2)/(|e1||e2|).
-FaceShape face_shape(const PolyMesh& m, std::size_t f, const AabbTree* reference) {
-  const auto vs = m.face(f);
-  const Vec3 n = newell_normal(m, f);
+// The shape of the polygon whose i-th corner is at(i), of n corners. Its scaled Jacobian is the
+// minimum over its corners of n . (e1 x e2)/(|e1||e2|), n the Newell normal.
+template <class Corner>
+FaceShape polygon_shape(std::size_t count, Corner at, const AabbTree* reference) {
+  Vec3 n;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec3& a = at(i);
+    const Vec3& b = at((i + 1) % count);
+    n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
+  }
+  n = normalized(n);
   FaceShape s;
-  for (std::size_t i = 0; i < vs.size(); ++i) {
-    const Vec3& p = m.positions[vs[i]];
-    const Vec3 e1 = m.positions[vs[(i + 1) % vs.size()]] - p;
-    const Vec3 e2 = m.positions[vs[(i + vs.size() - 1) % vs.size()]] - p;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec3& p = at(i);
+    const Vec3 e1 = at((i + 1) % count) - p;
+    const Vec3 e2 = at((i + count - 1) % count) - p;
     const double l = norm(e1) * norm(e2);
     const Vec3 c = cross(e1, e2);
     s.sj = std::min(s.sj, l > 0 ? dot(n, c) / l : 0.0);
@@ -68,6 +64,12 @@ FaceShape face_shape(const PolyMesh& m, std::size_t f, const AabbTree* reference
     s.angle_deviation_max = std::max(s.angle_deviation_max, std::fabs(angle - 90));
   }
   return s;
+}
+
+FaceShape face_shape(const PolyMesh& m, std::size_t f, const AabbTree* reference) {
+  const auto vs = m.face(f);
+  return polygon_shape(
+      vs.size(), [&](std::size_t i) -> const Vec3& { return m.positions[vs[i]]; }, reference);
 }
 
 std::vector<std::array<Vec3, 3>> fan_triangles(const PolyMesh& m) {
@@ -289,10 +291,9 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
 }
 
 double quad_scaled_jacobian(const std::array<Vec3, 4>& q) {
-  PolyMesh m;
-  m.positions.assign(q.begin(), q.end());
-  m.add_face({0, 1, 2, 3});
-  return face_shape(m, 0, nullptr).sj;
+  return polygon_shape(
+             4, [&](std::size_t i) -> const Vec3& { return q[i]; }, nullptr)
+      .sj;
 }
 
 std::vector<double> surface_scaled_jacobians(const PolyMesh& quads, const PolyMesh& reference) {
