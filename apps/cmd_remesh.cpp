@@ -22,6 +22,8 @@ struct RemeshArgs {
   bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
        split_patches = false;
   uint32_t smooth = 0, fold_rounds = 2, threads = 0;
+  double tolerance = RemeshOptions{}.tolerance;
+  uint32_t tolerance_rounds = RemeshOptions{}.tolerance_rounds;
   std::vector<double> view;
   int report_width = 1200;
   PrepArgs prep;
@@ -70,6 +72,19 @@ Runner add_remesh(CLI::App& app) {
                   "rounds and the diagonal collapses, the corners are chosen once more, avoiding "
                   "patch corners at flat places (not with 0)")
       ->capture_default_str();
+  sub->add_option("--tolerance", a->tolerance,
+                  "At the default size (neither --quads nor --edge-length): where the quads are "
+                  "farther than this fraction of the bounding-box diagonal from the input "
+                  "(two-sided Hausdorff distance, as `isoquad quality` measures it), remesh with "
+                  "more quads, at most --tolerance-rounds times and up to 4 times the first "
+                  "count; the closest result with no more folded quads is kept. Each round is a "
+                  "whole run (0: off, the default)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  sub->add_option("--tolerance-rounds", a->tolerance_rounds,
+                  "How often at most --tolerance asks for more quads")
+      ->check(CLI::Range(1u, 8u))
+      ->capture_default_str();
   sub->add_option("--threads", a->threads,
                   "Worker threads at most (0: one per core); the output is the same for any count")
       ->capture_default_str();
@@ -109,6 +124,8 @@ Runner add_remesh(CLI::App& app) {
     o.snap = !a->no_snap;
     o.fold_rounds = a->fold_rounds;
     o.split_patches = a->split_patches;
+    o.tolerance = a->tolerance;
+    o.tolerance_rounds = a->tolerance_rounds;
     o.improve_corners = a->improve_corners;
     o.threads = a->threads;
     o.quality = a->json || !a->report_dir.empty();

@@ -22,7 +22,7 @@
 
 int main(int argc, char** argv) {
   CLI::App app("Remesh the corpus and print the quality table");
-  double quads = 0;
+  double quads = 0, tolerance = isoquad::RemeshOptions{}.tolerance;
   uint32_t repeat = 1, fold_rounds = isoquad::RemeshOptions{}.fold_rounds;
   std::vector<std::string> only;
   app.add_option("--quads", quads, "Target quad count (default: each mesh's default size)");
@@ -30,6 +30,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1u, 50u))
       ->capture_default_str();
   app.add_option("--fold-rounds", fold_rounds, "Rounds of more quads where quads still fold")
+      ->capture_default_str();
+  app.add_option("--tolerance", tolerance,
+                 "At the default size: more quads while farther than this fraction of the "
+                 "diagonal (remesh --tolerance)")
       ->capture_default_str();
   app.add_option("--mesh", only, "Only these corpus meshes (file names)");
   CLI11_PARSE(app, argc, argv);
@@ -65,6 +69,7 @@ int main(int argc, char** argv) {
       o.quads = quads;
       o.quality = false;
       o.fold_rounds = fold_rounds;
+      o.tolerance = tolerance;
       std::vector<double> seconds;
       isoquad::PolyRemesh result;
       for (uint32_t r = 0; r < repeat; ++r) {

@@ -30,8 +30,13 @@ struct RemeshOptions {
   bool snap = true;                // move corners onto tips the quads cut off (extract/snap.hpp)
   uint32_t fold_rounds = 2;        // more quads across patches still folded, re-solved this often
   bool split_patches = false;      // every patch four-sided first (the paper's §5 repair)
-  bool quality = true;             // measure the output against the input (in `report`)
-  uint32_t threads = 0;            // worker threads at most (0: all cores); same output for any
+  // At the default size (no quads, no edge length): remesh a component with more quads while its
+  // quads are farther than this fraction of the bounding-box diagonal from the input (two-sided
+  // Hausdorff), at most tolerance_rounds times and to 4 times the first count (0: off).
+  double tolerance = 0;
+  uint32_t tolerance_rounds = 2;
+  bool quality = true;   // measure the output against the input (in `report`)
+  uint32_t threads = 0;  // worker threads at most (0: all cores); same output for any
 };
 
 struct RemeshResult {

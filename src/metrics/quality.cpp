@@ -111,7 +111,31 @@ void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTr
   }
 }
 
+// Two-sided distance between `a` and the triangles in `b_tree`.
+SurfaceDistance two_sided(const std::vector<std::array<Vec3, 3>>& a, const AabbTree& b_tree,
+                          uint32_t samples, uint64_t seed) {
+  const AabbTree a_tree(a);
+  double max_a = 0, sum_a = 0, max_b = 0, sum_b = 0;
+  Vec3 at_a, at_b;
+  uint64_t na = 0, nb = 0;
+  sample_distances(a, b_tree, samples, seed, max_a, at_a, sum_a, na);
+  sample_distances(b_tree.triangles(), a_tree, samples, seed + 1, max_b, at_b, sum_b, nb);
+  SurfaceDistance d;
+  d.max = std::max(max_a, max_b);
+  d.on_b = max_b > max_a;
+  d.at = d.on_b ? at_b : at_a;
+  d.mean =
+      0.5 * (sum_a / double(std::max<uint64_t>(na, 1)) + sum_b / double(std::max<uint64_t>(nb, 1)));
+  return d;
+}
+
 }  // namespace
+
+SurfaceDistance surface_distance(const std::vector<std::array<Vec3, 3>>& a,
+                                 const std::vector<std::array<Vec3, 3>>& b, uint32_t samples,
+                                 uint64_t seed) {
+  return two_sided(a, AabbTree(b), samples, seed);
+}
 
 Topology topology_of(const PolyMesh& m, bool* edge_manifold, bool* vertex_manifold, bool* oriented,
                      std::vector<uint32_t>* boundary_vertex_flag,
@@ -271,21 +295,11 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
     Box3 box;
     for (const Vec3& p : reference->positions) box.add(p);
     const double diag = box.diagonal() > 0 ? box.diagonal() : 1.0;
-    const std::vector<std::array<Vec3, 3>> quad_tris = fan_triangles(m);
-    const AabbTree quad_tree(quad_tris);
-    double max_a = 0, sum_a = 0, max_b = 0, sum_b = 0;
-    Vec3 at_a, at_b;
-    uint64_t na = 0, nb = 0;
-    sample_distances(quad_tris, *ref_tree, options.samples, options.seed, max_a, at_a, sum_a, na);
-    sample_distances(ref_tree->triangles(), quad_tree, options.samples, options.seed + 1, max_b,
-                     at_b, sum_b, nb);
-    q.hausdorff = std::max(max_a, max_b) / diag;
-    q.hausdorff_on_input = max_b > max_a;
-    q.hausdorff_at = q.hausdorff_on_input ? at_b : at_a;
-    q.mean_distance =
-        0.5 *
-        (sum_a / double(std::max<uint64_t>(na, 1)) + sum_b / double(std::max<uint64_t>(nb, 1))) /
-        diag;
+    const SurfaceDistance d = two_sided(fan_triangles(m), *ref_tree, options.samples, options.seed);
+    q.hausdorff = d.max / diag;
+    q.hausdorff_on_input = d.on_b;
+    q.hausdorff_at = d.at;
+    q.mean_distance = d.mean / diag;
   }
   return q;
 }

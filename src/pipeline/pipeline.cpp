@@ -9,6 +9,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include "isoquad/error.hpp"
+#include "metrics/quality.hpp"
 #include "param/ordering.hpp"
 #include "pipeline/sizing.hpp"
 
@@ -300,7 +301,10 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
 
 }  // namespace
 
-ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
+namespace {
+
+// The component at the size `o` asks for.
+ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
   double total_area = 0;
   for (const auto& comp : prep.components) total_area += surface_area(comp.mesh);
   const PreparedComponent& comp = prep.components.at(c);
@@ -335,6 +339,82 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
       ++run.subdivision_retreats;
     }
   }
+}
+
+// The quads' two-sided distance to `surface`, over `diagonal`.
+double distance_to(const QuadMesh& quads, const std::vector<std::array<Vec3, 3>>& surface,
+                   double diagonal) {
+  std::vector<std::array<Vec3, 3>> tris;
+  tris.reserve(2 * quads.quads.size());
+  const auto& p = quads.positions;
+  for (const auto& q : quads.quads) {
+    tris.push_back({p[q[0]], p[q[1]], p[q[2]]});
+    tris.push_back({p[q[0]], p[q[2]], p[q[3]]});
+  }
+  if (tris.empty() || surface.empty()) return 0;
+  const QualityOptions measure;
+  return surface_distance(tris, surface, measure.samples, measure.seed).max / diagonal;
+}
+
+}  // namespace
+
+ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
+  ComponentRun run = run_sized(prep, c, o);
+  if (o.edge_length > 0 || o.quads > 0 || o.tolerance <= 0 || o.tolerance_rounds == 0 ||
+      o.last != Stage::extract || run.quads.quads.empty())
+    return run;
+  Box3 box;
+  for (const PreparedComponent& comp : prep.components)
+    for (const Vec3& p : comp.mesh.positions()) box.add(p);
+  const double diagonal = box.diagonal() > 0 ? box.diagonal() : 1.0;
+  const TriMesh& mesh = prep.components[c].mesh;
+  std::vector<std::array<Vec3, 3>> surface;
+  surface.reserve(mesh.num_faces());
+  for (const Tri& t : mesh.faces())
+    surface.push_back({mesh.position(t[0]), mesh.position(t[1]), mesh.position(t[2])});
+  auto round_of = [&](const ComponentRun& r) {
+    return SizeRound{r.quads.quads.size(), distance_to(r.quads, surface, diagonal),
+                     r.untangle_report.nonpositive};
+  };
+  std::vector<SizeRound> rounds{round_of(run)};
+  uint32_t kept = 0;
+  const double first = double(rounds[0].quads);
+  double quads = first;
+  // Seconds of the runs not kept, added to the kept run's stages so they sum to the time spent.
+  double segment_s = 0, layout_s = 0, param_s = 0, extract_s = 0;
+  for (uint32_t i = 0; i < o.tolerance_rounds && rounds.back().distance > o.tolerance; ++i) {
+    // The farthest points are mostly where quads are too big for the shape (a patch's facing
+    // sides made equal), not chords of a smooth curve, so the distance falls about with h:
+    // h scaled by tolerance / distance, with a margin, at least 1.5 times the quads.
+    const double ratio = rounds.back().distance / o.tolerance;
+    const double next = std::min(quads * std::clamp(1.2 * ratio * ratio, 1.5, kToleranceMaxGrowth),
+                                 kToleranceMaxGrowth * first);
+    if (next < 1.25 * quads) break;
+    quads = next;
+    PipelineOptions finer = o;
+    finer.quads = quads / run.area_share;  // sizing.hpp shares a count out by area
+    std::optional<ComponentRun> candidate;
+    try {
+      candidate = run_sized(prep, c, finer);
+    } catch (const Error&) {
+      break;  // the coarser run stands
+    }
+    const SizeRound r = round_of(*candidate);
+    rounds.push_back(r);
+    const bool better = r.folded <= rounds[kept].folded && r.distance < rounds[kept].distance;
+    const ComponentRun& loser = better ? run : *candidate;
+    segment_s += loser.segment_seconds, layout_s += loser.layout_seconds;
+    param_s += loser.param_seconds, extract_s += loser.extract_seconds;
+    if (better) {
+      run = std::move(*candidate);
+      kept = uint32_t(rounds.size() - 1);
+    }
+  }
+  run.segment_seconds += segment_s, run.layout_seconds += layout_s;
+  run.param_seconds += param_s, run.extract_seconds += extract_s;
+  run.size_rounds = std::move(rounds);
+  run.size_round_kept = kept;
+  return run;
 }
 
 std::vector<ComponentRun> run_pipeline(const PreparedMesh& prep, const PipelineOptions& o) {

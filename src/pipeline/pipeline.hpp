@@ -49,7 +49,25 @@ struct PipelineOptions {
   // big triangles bends with the map's kink between them; finer triangles let the harmonic map
   // be smooth. The geometry does not change.
   double triangles_per_quad = 8;
+  // At the default size (neither `quads` nor `edge_length` given): a component whose quads are
+  // farther than this fraction of the mesh's bounding-box diagonal from its surface (two-sided,
+  // sampled as `isoquad quality` does) is remeshed with more quads, at most `tolerance_rounds`
+  // times and up to kToleranceMaxGrowth times its first count; the closest run with no more
+  // folded quads is kept. 0: off (the default: each round is a whole run, and finer runs
+  // need more fold repairs).
+  double tolerance = 0;
+  uint32_t tolerance_rounds = 2;
   Stage last = Stage::extract;
+};
+
+constexpr double kToleranceMaxGrowth = 4;
+
+// One size tried for a component: its quads, their two-sided distance to the component over
+// the mesh's bounding-box diagonal, and how many quads were left folded.
+struct SizeRound {
+  uint64_t quads = 0;
+  double distance = 0;
+  uint32_t folded = 0;  // UntangleReport::nonpositive
 };
 
 struct ComponentRun {
@@ -65,6 +83,10 @@ struct ComponentRun {
   uint32_t fold_rounds = 0, fold_rounds_kept = 0;  // thickening rounds tried and kept
   // Corners chosen again for folds: how many tries, and which was kept (1-based; 0: none).
   uint32_t corner_tries = 0, corner_try_kept = 0;
+  // The sizes tried for PipelineOptions::tolerance (empty when it was not used), and which one
+  // was kept.
+  std::vector<SizeRound> size_rounds;
+  uint32_t size_round_kept = 0;
   SegmentResult seg;
   std::optional<QuadSplitReport> quad_split;  // when the patches were split into quads
   Layout layout;

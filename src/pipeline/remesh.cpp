@@ -36,7 +36,9 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"untangle", o.untangle},
           {"snap", o.snap},
           {"fold_rounds", o.fold_rounds},
-          {"split_patches", o.split_patches}};
+          {"split_patches", o.split_patches},
+          {"tolerance", o.tolerance},
+          {"tolerance_rounds", o.tolerance_rounds}};
 }
 
 }  // namespace
@@ -78,6 +80,12 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.snap = opt.snap;
   o.fold_rounds = opt.fold_rounds;
   o.quad_split = opt.split_patches;
+  if (!(opt.tolerance >= 0 && opt.tolerance <= 1))
+    throw Error(
+        ErrorKind::invalid_input, "E003",
+        fmt::format("tolerance {} is not a fraction of the diagonal in [0, 1]", opt.tolerance));
+  o.tolerance = opt.tolerance;
+  o.tolerance_rounds = opt.tolerance_rounds;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;
@@ -95,6 +103,15 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
         c, r.seg.num_patches, 1e3 * r.segment_seconds, r.layout.quads(), 1e3 * r.layout_seconds,
         r.param_report.factorizations, r.param_report.fell_back_to_locked ? ", locked map" : "",
         1e3 * r.param_seconds, 1e3 * r.extract_seconds));
+    if (r.size_rounds.size() > 1) {
+      std::string tried;
+      for (std::size_t k = 0; k < r.size_rounds.size(); ++k)
+        tried +=
+            fmt::format("{}{} quads {:.2f}%{}", k ? ", " : "", r.size_rounds[k].quads,
+                        100 * r.size_rounds[k].distance, k == r.size_round_kept ? " (kept)" : "");
+      say(fmt::format("component {}: sizes tried for the {:.2f}% tolerance: {}", c,
+                      100 * o.tolerance, tried));
+    }
     std::map<std::string, int> valence;
     // How far the integer lengths are from the geodesic ones: x_e / c_e per meta-edge.
     const std::vector<double> ratio = r.layout.length_ratios();
@@ -103,7 +120,11 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     };
     for (uint32_t v = 0; v < r.seg.meta.vertices.size(); ++v)
       if (!r.seg.meta.vertices[v].on_boundary) ++valence[std::to_string(r.layout.quarter_turns[v])];
+    nlohmann::json sizes = nlohmann::json::array();
+    for (const SizeRound& s : r.size_rounds)
+      sizes.push_back({{"quads", s.quads}, {"hausdorff", s.distance}, {"folded", s.folded}});
     comps.push_back({{"component", prep.components[c].report_index},
+                     {"size_rounds", {{"tried", sizes}, {"kept", r.size_round_kept}}},
                      {"subdivisions", r.subdivisions},
                      {"subdivision_retreats", r.subdivision_retreats},
                      {"corner_refinement_dropped", r.corners_unrefined},

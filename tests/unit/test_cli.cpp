@@ -398,3 +398,38 @@ TEST(Cli, ThreadCountDoesNotChangeTheOutput) {
   std::filesystem::remove(one);
   std::filesystem::remove(two);
 }
+
+// --tolerance at the default size: the sphere (0.52% at its default 2,576 quads) asked for
+// 0.4% gets one finer run of at least 1.5 times the quads, and the run reported as kept is the
+// output (its distance is the one `quality` measures, same samples). With --quads it is not used.
+TEST(Cli, ToleranceRemeshesFinerAtTheDefaultSize) {
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const auto out = std::filesystem::temp_directory_path() /
+                   ("isoquad_cli_tolerance_" + std::to_string(::getpid()) + ".obj");
+  const CliRun a = run("remesh " + sphere + " -o " + out.string() +
+                       " --tolerance 0.004 --tolerance-rounds 1 --json");
+  ASSERT_EQ(a.status, 0) << a.err;
+  const auto j = nlohmann::json::parse(a.out);
+  const auto& sizes = j["components"][0]["size_rounds"];
+  ASSERT_EQ(sizes["tried"].size(), 2u) << sizes;
+  const auto& first = sizes["tried"][0];
+  const auto& second = sizes["tried"][1];
+  EXPECT_GT(first["hausdorff"].get<double>(), 0.004);
+  EXPECT_GE(second["quads"].get<double>(), 1.4 * first["quads"].get<double>());
+  const bool finer_kept = second["folded"].get<int>() <= first["folded"].get<int>() &&
+                          second["hausdorff"].get<double>() < first["hausdorff"].get<double>();
+  EXPECT_EQ(sizes["kept"].get<int>(), finer_kept ? 1 : 0);
+  const auto& kept = sizes["tried"][sizes["kept"].get<int>()];
+  EXPECT_EQ(j["quads"], kept["quads"]);
+  EXPECT_NEAR(j["quality"]["hausdorff"].get<double>(), kept["hausdorff"].get<double>(), 1e-6);
+  EXPECT_TRUE(j["quality"]["pure_quad"].get<bool>());
+  EXPECT_TRUE(j["quality"]["same_topology"].get<bool>());
+  EXPECT_NE(a.err.find("sizes tried for the 0.40% tolerance"), std::string::npos) << a.err;
+
+  const CliRun b =
+      run("remesh " + sphere + " -o " + out.string() + " --quads 500 --tolerance 0.004 --json");
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_TRUE(nlohmann::json::parse(b.out)["components"][0]["size_rounds"]["tried"].empty());
+  EXPECT_NE(run("remesh " + sphere + " -o " + out.string() + " --tolerance 2").status, 0);
+  std::filesystem::remove(out);
+}
