@@ -78,7 +78,7 @@ Runner add_remesh(CLI::App& app) {
                   "(two-sided Hausdorff distance, as `isoquad quality` measures it), remesh with "
                   "more quads, at most --tolerance-rounds times and up to 4 times the first "
                   "count; the closest result with no more folded quads is kept. Each round is a "
-                  "whole run (0: off, the default)")
+                  "whole run (0: off, the default; refused with --quads or --edge-length)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   sub->add_option("--tolerance-rounds", a->tolerance_rounds,

@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--tolerance", tolerance,
                  "At the default size: more quads while farther than this fraction of the "
-                 "diagonal (remesh --tolerance)")
+                 "diagonal (remesh --tolerance; not with --quads)")
       ->capture_default_str();
   app.add_option("--mesh", only, "Only these corpus meshes (file names)");
   CLI11_PARSE(app, argc, argv);

@@ -116,6 +116,24 @@ double distance_to_quad(const std::vector<Vec3>& positions, const std::array<uin
   return best;
 }
 
+std::vector<std::array<Vec3, 3>> fan_triangles(const QuadMesh& qm) {
+  std::vector<std::array<Vec3, 3>> t;
+  t.reserve(2 * qm.quads.size());
+  for (const auto& q : qm.quads) {
+    t.push_back({qm.positions[q[0]], qm.positions[q[1]], qm.positions[q[2]]});
+    t.push_back({qm.positions[q[0]], qm.positions[q[2]], qm.positions[q[3]]});
+  }
+  return t;
+}
+
+std::vector<std::array<Vec3, 3>> face_triangles(const TriMesh& surface) {
+  std::vector<std::array<Vec3, 3>> t;
+  t.reserve(surface.num_faces());
+  for (const Tri& f : surface.faces())
+    t.push_back({surface.position(f[0]), surface.position(f[1]), surface.position(f[2])});
+  return t;
+}
+
 QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
                        const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout,
                        const Param& param, ExtractReport& report) {

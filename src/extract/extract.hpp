@@ -49,6 +49,13 @@ struct ExtractReport {
 double distance_to_quad(const std::vector<Vec3>& positions, const std::array<uint32_t, 4>& q,
                         const Vec3& x);
 
+// The quads as `isoquad quality` measures them: each split along the diagonal from its first
+// corner (two triangles, 2f and 2f + 1).
+std::vector<std::array<Vec3, 3>> fan_triangles(const QuadMesh& quads);
+
+// The surface's triangles in face order (triangle f is face f), for an AabbTree.
+std::vector<std::array<Vec3, 3>> face_triangles(const TriMesh& surface);
+
 // \pre param.certificate.ok() or param is the locked map; layout passed check_layout.
 // \throw Error(internal, E601) when a lattice point cannot be placed at all (a bug).
 QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,

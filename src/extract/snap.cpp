@@ -17,18 +17,6 @@ namespace isoquad {
 
 namespace {
 
-// The quads as `isoquad quality` measures them: each split along the diagonal from its first
-// corner (two triangles, 2f and 2f + 1).
-std::vector<std::array<Vec3, 3>> fan_triangles(const QuadMesh& qm) {
-  std::vector<std::array<Vec3, 3>> t;
-  t.reserve(2 * qm.quads.size());
-  for (const auto& q : qm.quads) {
-    t.push_back({qm.positions[q[0]], qm.positions[q[1]], qm.positions[q[2]]});
-    t.push_back({qm.positions[q[0]], qm.positions[q[2]], qm.positions[q[3]]});
-  }
-  return t;
-}
-
 // How far the scaled Jacobian against the corners' own face normals may fall below the bound
 // before a move is rejected without the exact value: a prefilter (no search), since most
 // rejected moves fold a quad outright. The two differ where a corner's face is not the one just
@@ -290,15 +278,8 @@ void snap_tips(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, const Me
   const uint32_t n = uint32_t(qm.positions.size());
   const double h = o.edge_length, far = o.far * h;
   std::optional<AabbTree> surface_tree, quad_tree;
-  tbb::parallel_invoke(
-      [&] {
-        std::vector<std::array<Vec3, 3>> t;
-        t.reserve(base.num_faces());
-        for (const Tri& f : base.faces())
-          t.push_back({base.position(f[0]), base.position(f[1]), base.position(f[2])});
-        surface_tree.emplace(std::move(t));
-      },
-      [&] { quad_tree.emplace(fan_triangles(qm)); });
+  tbb::parallel_invoke([&] { surface_tree.emplace(face_triangles(base)); },
+                       [&] { quad_tree.emplace(fan_triangles(qm)); });
   const AabbTree& surface = *surface_tree;
   Snapper s{qm, base, surface, far, o.min_sj, {}, {}, {}, {}};
   s.around.resize(n);

@@ -111,9 +111,10 @@ void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTr
   }
 }
 
-// Two-sided distance between `a` and the triangles in `b_tree`.
-SurfaceDistance two_sided(const std::vector<std::array<Vec3, 3>>& a, const AabbTree& b_tree,
-                          uint32_t samples, uint64_t seed) {
+}  // namespace
+
+SurfaceDistance surface_distance(const std::vector<std::array<Vec3, 3>>& a, const AabbTree& b_tree,
+                                 uint32_t samples, uint64_t seed) {
   const AabbTree a_tree(a);
   double max_a = 0, sum_a = 0, max_b = 0, sum_b = 0;
   Vec3 at_a, at_b;
@@ -127,14 +128,6 @@ SurfaceDistance two_sided(const std::vector<std::array<Vec3, 3>>& a, const AabbT
   d.mean =
       0.5 * (sum_a / double(std::max<uint64_t>(na, 1)) + sum_b / double(std::max<uint64_t>(nb, 1)));
   return d;
-}
-
-}  // namespace
-
-SurfaceDistance surface_distance(const std::vector<std::array<Vec3, 3>>& a,
-                                 const std::vector<std::array<Vec3, 3>>& b, uint32_t samples,
-                                 uint64_t seed) {
-  return two_sided(a, AabbTree(b), samples, seed);
 }
 
 Topology topology_of(const PolyMesh& m, bool* edge_manifold, bool* vertex_manifold, bool* oriented,
@@ -295,7 +288,8 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
     Box3 box;
     for (const Vec3& p : reference->positions) box.add(p);
     const double diag = box.diagonal() > 0 ? box.diagonal() : 1.0;
-    const SurfaceDistance d = two_sided(fan_triangles(m), *ref_tree, options.samples, options.seed);
+    const SurfaceDistance d =
+        surface_distance(fan_triangles(m), *ref_tree, options.samples, options.seed);
     q.hausdorff = d.max / diag;
     q.hausdorff_on_input = d.on_b;
     q.hausdorff_at = d.at;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/poly_mesh.hpp"
+#include "metrics/aabb_tree.hpp"
 
 namespace isoquad {
 
@@ -66,17 +67,17 @@ QualityReport measure_quality(const PolyMesh& quads, const PolyMesh* reference,
 // a corner with an edge of length 0.
 double quad_scaled_jacobian(const std::array<Vec3, 4>& q);
 
-// Two-sided distance between two triangle sets (as QualityReport's, before the division by the
-// diagonal): from `samples` area samples and every vertex of each set to the other set.
+// Two-sided distance between a triangle set and the triangles of an AabbTree (as
+// QualityReport's, before the division by the diagonal): from `samples` area samples and every
+// vertex of each set to the other set.
 struct SurfaceDistance {
   double max = 0, mean = 0;  // the larger one-sided maximum; the mean of the one-sided means
   Vec3 at;                   // where the maximum is reached
   bool on_b = false;         // `at` is on b (a point of b farthest from a), else on a
 };
 // \pre both sets have a triangle.
-SurfaceDistance surface_distance(const std::vector<std::array<Vec3, 3>>& a,
-                                 const std::vector<std::array<Vec3, 3>>& b, uint32_t samples,
-                                 uint64_t seed);
+SurfaceDistance surface_distance(const std::vector<std::array<Vec3, 3>>& a, const AabbTree& b,
+                                 uint32_t samples, uint64_t seed);
 
 // Per face, the scaled Jacobian against the reference's normal at each corner (as
 // QualityReport::sj_surface_min): <= 0 marks a folded face.

@@ -341,21 +341,6 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
   }
 }
 
-// The quads' two-sided distance to `surface`, over `diagonal`.
-double distance_to(const QuadMesh& quads, const std::vector<std::array<Vec3, 3>>& surface,
-                   double diagonal) {
-  std::vector<std::array<Vec3, 3>> tris;
-  tris.reserve(2 * quads.quads.size());
-  const auto& p = quads.positions;
-  for (const auto& q : quads.quads) {
-    tris.push_back({p[q[0]], p[q[1]], p[q[2]]});
-    tris.push_back({p[q[0]], p[q[2]], p[q[3]]});
-  }
-  if (tris.empty() || surface.empty()) return 0;
-  const QualityOptions measure;
-  return surface_distance(tris, surface, measure.samples, measure.seed).max / diagonal;
-}
-
 }  // namespace
 
 ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
@@ -367,14 +352,12 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   for (const PreparedComponent& comp : prep.components)
     for (const Vec3& p : comp.mesh.positions()) box.add(p);
   const double diagonal = box.diagonal() > 0 ? box.diagonal() : 1.0;
-  const TriMesh& mesh = prep.components[c].mesh;
-  std::vector<std::array<Vec3, 3>> surface;
-  surface.reserve(mesh.num_faces());
-  for (const Tri& t : mesh.faces())
-    surface.push_back({mesh.position(t[0]), mesh.position(t[1]), mesh.position(t[2])});
+  const AabbTree surface(face_triangles(prep.components[c].mesh));
+  const QualityOptions measure;  // the distance as `isoquad quality` samples it
   auto round_of = [&](const ComponentRun& r) {
-    return SizeRound{r.quads.quads.size(), distance_to(r.quads, surface, diagonal),
-                     r.untangle_report.nonpositive};
+    const double d =
+        surface_distance(fan_triangles(r.quads), surface, measure.samples, measure.seed).max;
+    return SizeRound{r.quads.quads.size(), d / diagonal, r.untangle_report.nonpositive};
   };
   std::vector<SizeRound> rounds{round_of(run)};
   uint32_t kept = 0;

@@ -56,6 +56,13 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   if (opt.relax != "adaptive" && opt.relax != "bisection" && opt.relax != "locked")
     throw Error(ErrorKind::invalid_input, "E003",
                 fmt::format("unknown relaxation '{}' (adaptive, bisection or locked)", opt.relax));
+  if (!(opt.tolerance >= 0 && opt.tolerance <= 1))
+    throw Error(
+        ErrorKind::invalid_input, "E003",
+        fmt::format("tolerance {} is not a fraction of the diagonal in [0, 1]", opt.tolerance));
+  if (opt.tolerance > 0 && (opt.quads > 0 || opt.edge_length > 0))
+    throw Error(ErrorKind::invalid_input, "E003",
+                "tolerance chooses the size itself: give it without a quad count or edge length");
   // Parallel stages are deterministic: the thread count changes the time, not the output.
   std::optional<tbb::global_control> limit;
   if (opt.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, opt.threads);
@@ -80,10 +87,6 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.snap = opt.snap;
   o.fold_rounds = opt.fold_rounds;
   o.quad_split = opt.split_patches;
-  if (!(opt.tolerance >= 0 && opt.tolerance <= 1))
-    throw Error(
-        ErrorKind::invalid_input, "E003",
-        fmt::format("tolerance {} is not a fraction of the diagonal in [0, 1]", opt.tolerance));
   o.tolerance = opt.tolerance;
   o.tolerance_rounds = opt.tolerance_rounds;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
