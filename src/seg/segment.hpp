@@ -6,6 +6,7 @@
 #include "layout/meta_mesh.hpp"
 #include "layout/straighten.hpp"
 #include "seg/disk_patches.hpp"
+#include "seg/tip_split.hpp"
 #include "seg/vsa.hpp"
 
 namespace isoquad {
@@ -14,6 +15,12 @@ struct SegmentOptions {
   VsaOptions vsa;
   MetaMeshOptions meta;
   bool straighten = true;
+  // Surface vertices to make meta-vertices by cutting their patches into wedges
+  // (seg/tip_split.hpp): tips an earlier run's quads cut off.
+  std::vector<uint32_t> tips;
+  // A VSA partition of this mesh with these options from an earlier call, used instead of
+  // running VSA again (the tips change only what follows it).
+  const FaceData<uint32_t>* vsa_labels = nullptr;
 
   // The options for a target quad edge length h (mesh units): it bounds K and the smallest
   // patch, and sets the window of boundary-corner detection.
@@ -32,8 +39,10 @@ struct SegmentResult {
   EdgeData<char> feature;     // feature edges of the refined mesh
   FaceData<uint32_t> labels;  // patch per face of the refined mesh
   uint32_t num_patches = 0;
-  uint32_t vsa_patches = 0;  // before topology repair
+  uint32_t vsa_patches = 0;       // before topology repair
+  FaceData<uint32_t> vsa_labels;  // VSA's partition, before topology repair
   DiskRepairLog repair;
+  TipSplitLog tip_split;
   StraightenLog straighten;
   uint32_t dividing_splits = 0;  // edges split for 3-connectedness
   MetaMesh meta;                 // on the refined mesh; meta-edges carry geodesic lengths

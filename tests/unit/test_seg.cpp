@@ -287,3 +287,126 @@ TEST(Refine, CutAlongChords) {
   EXPECT_TRUE(joined(t[0], nv) && joined(nv, nv + 1) && joined(nv + 1, t[1]));
   EXPECT_EQ(std::count(flags.begin(), flags.end(), 1), 3);  // the three pieces of e0
 }
+
+namespace {
+
+// The distinct patches around v.
+std::set<uint32_t> patches_at(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t v) {
+  std::set<uint32_t> out;
+  m.for_each_outgoing(v, [&](uint32_t h) { out.insert(labels[TriMesh::face_of(h)]); });
+  return out;
+}
+
+// The vertex nearest to p.
+uint32_t nearest_vertex(const TriMesh& m, const Vec3& p) {
+  uint32_t best = 0;
+  for (uint32_t v = 1; v < m.num_vertices(); ++v)
+    if (norm(m.position(v) - p) < norm(m.position(best) - p)) best = v;
+  return best;
+}
+
+}  // namespace
+
+TEST(TipSplit, TipInsideAPatchBecomesAJunctionOfThreeWedges) {
+  // The upper hemisphere is one patch and the pole is inside it: it is cut into three wedges
+  // that meet at the pole, each reaching the equator, and the lower half is untouched.
+  const PreparedComponent c = prepared(test::icosphere(3));
+  const TriMesh& m = c.mesh;
+  FaceData<uint32_t> labels(m.num_faces());
+  for (uint32_t f = 0; f < m.num_faces(); ++f) {
+    const Tri& t = m.face(f);
+    labels[f] = m.position(t[0]).z + m.position(t[1]).z + m.position(t[2]).z > 0 ? 1 : 0;
+  }
+  const FaceData<uint32_t> before = labels;
+  const uint32_t pole = nearest_vertex(m, {0, 0, 1});
+  uint32_t n = 2;
+  TipSplitLog log;
+  split_patches_at_tips(m, c.feature, {pole}, labels, n, log);
+  EXPECT_EQ(log.tips, 1u);
+  EXPECT_EQ(log.split, 1u);
+  EXPECT_EQ(n, 4u);
+  EXPECT_EQ(patches_at(m, labels, pole), (std::set<uint32_t>{1, 2, 3}));
+  const std::vector<PatchTopology> topo = patch_topology(m, labels, n);
+  std::set<uint32_t> at_equator;
+  for (uint32_t h = 0; h < m.num_halfedges(); ++h)
+    if (labels[TriMesh::face_of(m.twin(h))] == 0) at_equator.insert(labels[TriMesh::face_of(h)]);
+  for (uint32_t p = 1; p < 4; ++p) {
+    EXPECT_TRUE(topo[p].is_disk()) << p;
+    EXPECT_TRUE(at_equator.count(p)) << p;
+    // About a third of the hemisphere each (the fan's few faces split unevenly).
+    EXPECT_GT(3 * topo[p].faces, (topo[1].faces + topo[2].faces + topo[3].faces) / 2) << p;
+  }
+  for (uint32_t f = 0; f < m.num_faces(); ++f)
+    EXPECT_EQ(labels[f] == 0, before[f] == 0) << f;  // the lower half kept, nothing moved into it
+  // Through the whole segmentation the pole is then a meta-vertex.
+  SegmentOptions o = with_patches(4);
+  o.tips = {pole};
+  const SegmentResult r = segment(m, c.feature, o);
+  EXPECT_EQ(r.tip_split.split, 1u);
+  EXPECT_NE(r.meta.vertex_meta_vertex[pole], kInvalid);
+  EXPECT_GE(patches_at(r.refined.mesh, r.labels, pole).size(), 3u);
+  expect_valid(m, r);
+}
+
+TEST(TipSplit, TipOnASeamCutsTheWiderSideInTwo) {
+  const PreparedComponent c = prepared(test::icosphere(3));
+  const TriMesh& m = c.mesh;
+  // Two patches split by a plane off the centre: a vertex on their seam sees the larger patch
+  // over more than half its fan.
+  const Box3 box = m.bounding_box();
+  const double cut = box.lo.x + 0.7 * (box.hi.x - box.lo.x);
+  FaceData<uint32_t> labels(m.num_faces());
+  for (uint32_t f = 0; f < m.num_faces(); ++f) {
+    const Tri& t = m.face(f);
+    labels[f] = m.position(t[0]).x + m.position(t[1]).x + m.position(t[2]).x > 3 * cut ? 1 : 0;
+  }
+  uint32_t seam = kInvalid;
+  for (uint32_t v = 0; v < m.num_vertices() && seam == kInvalid; ++v)
+    if (patches_at(m, labels, v).size() == 2) seam = v;
+  ASSERT_NE(seam, kInvalid);
+  const uint32_t w = patch_angle(m, labels, seam, 0) > patch_angle(m, labels, seam, 1) ? 0 : 1;
+  const double wide = patch_angle(m, labels, seam, w), narrow = patch_angle(m, labels, seam, 1 - w);
+  ASSERT_GT(wide, narrow);
+  uint32_t n = 2;
+  TipSplitLog log;
+  split_patches_at_tips(m, c.feature, {seam}, labels, n, log);
+  EXPECT_EQ(log.split, 1u);
+  EXPECT_EQ(n, 3u);
+  EXPECT_EQ(patches_at(m, labels, seam), (std::set<uint32_t>{0, 1, 2}));
+  // The narrower side is as it was; the wider one gave about half its angle to patch 2.
+  EXPECT_NEAR(patch_angle(m, labels, seam, 1 - w), narrow, 1e-12);
+  EXPECT_NEAR(patch_angle(m, labels, seam, w) + patch_angle(m, labels, seam, 2), wide, 1e-12);
+  EXPECT_LT(patch_angle(m, labels, seam, 2), 0.75 * wide);
+  EXPECT_GT(patch_angle(m, labels, seam, 2), 0.25 * wide);
+}
+
+TEST(TipSplit, TipOnTheBoundaryIsForcedAMetaVertex) {
+  // An open plate in one patch: its corners are the meta-vertices; a tip in the middle of a
+  // side is listed, not split, and the segmentation makes it a fifth meta-vertex.
+  const PreparedComponent c = prepared(test::grid_plate(12, 8));
+  const Box3 box = c.mesh.bounding_box();
+  const uint32_t tip = nearest_vertex(c.mesh, {0.5 * (box.lo.x + box.hi.x), box.lo.y, box.lo.z});
+  ASSERT_TRUE(c.mesh.is_boundary_vertex(tip));
+  SegmentOptions o = with_patches(1);
+  o.tips = {tip};
+  const SegmentResult r = segment(c.mesh, c.feature, o);
+  EXPECT_EQ(r.tip_split.split, 0u);
+  EXPECT_EQ(r.tip_split.boundary, std::vector<uint32_t>{tip});
+  ASSERT_EQ(r.num_patches, 1u);
+  EXPECT_EQ(r.meta.vertices.size(), 5u);
+  EXPECT_NE(r.meta.vertex_meta_vertex[tip], kInvalid);
+  expect_valid(c.mesh, r);
+}
+
+TEST(TipSplit, JunctionIsLeftAlone) {
+  const PreparedComponent c = prepared(test::icosphere(3));
+  const SegmentResult r = segment(c.mesh, c.feature, with_patches(6));
+  const MetaVertex& junction = r.meta.vertices.front();
+  FaceData<uint32_t> labels = r.labels;
+  uint32_t n = r.num_patches;
+  TipSplitLog log;
+  split_patches_at_tips(r.refined.mesh, r.feature, {junction.vertex}, labels, n, log);
+  EXPECT_EQ(log.split, 0u);
+  EXPECT_EQ(n, r.num_patches);
+  EXPECT_TRUE(std::equal(labels.begin(), labels.end(), r.labels.begin()));
+}
