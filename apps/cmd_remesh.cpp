@@ -20,7 +20,7 @@ struct RemeshArgs {
   std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global";
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
-       split_patches = false;
+       split_patches = false, no_tip_split = false;
   uint32_t smooth = 0, fold_rounds = 2, threads = 0;
   double tolerance = RemeshOptions{}.tolerance;
   uint32_t tolerance_rounds = RemeshOptions{}.tolerance_rounds;
@@ -65,6 +65,11 @@ Runner add_remesh(CLI::App& app) {
                 "Leave the quads' corners where extraction and untangling put them, even where "
                 "the quads cut off a tip of the surface (by default nearby corners are moved "
                 "onto such tips where that makes no quad worse than a scaled Jacobian of 0.2)");
+  sub->add_flag("--no-tip-split", a->no_tip_split,
+                "Run once, even where the quads cut off a tip of the surface or bridge a valley "
+                "by more than half an edge length (by default the surface vertex there becomes "
+                "a patch corner, the mesh is remeshed from the same patches, and the closer "
+                "result with no more folded quads is kept)");
   sub->add_option("--fold-rounds", a->fold_rounds,
                   "Where quads still fold after untangling, give their patches one more quad "
                   "across and solve the lengths, map and quads again, at most this often (a round "
@@ -124,6 +129,7 @@ Runner add_remesh(CLI::App& app) {
     o.snap = !a->no_snap;
     o.fold_rounds = a->fold_rounds;
     o.split_patches = a->split_patches;
+    o.tip_split = !a->no_tip_split;
     o.tolerance = a->tolerance;
     o.tolerance_rounds = a->tolerance_rounds;
     o.improve_corners = a->improve_corners;

@@ -30,6 +30,10 @@ struct RemeshOptions {
   bool snap = true;                // move corners onto tips the quads cut off (extract/snap.hpp)
   uint32_t fold_rounds = 2;        // more quads across patches still folded, re-solved this often
   bool split_patches = false;      // every patch four-sided first (the paper's §5 repair)
+  // Where the quads are more than half an edge length off the surface (a tip cut off, a valley
+  // bridged), make the surface vertex there a patch corner and run again; keep the closer run
+  // with no more folded quads.
+  bool tip_split = true;
   // At the default size (no quads, no edge length): remesh a component with more quads while its
   // quads are farther than this fraction of the bounding-box diagonal from the input (two-sided
   // Hausdorff), at most tolerance_rounds times and to 4 times the first count (0: off).

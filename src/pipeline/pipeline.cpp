@@ -9,6 +9,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include "isoquad/error.hpp"
+#include "metrics/aabb_tree.hpp"
 #include "metrics/quality.hpp"
 #include "param/ordering.hpp"
 #include "pipeline/sizing.hpp"
@@ -53,21 +54,26 @@ RefinedMesh subdivide_coarse(const TriMesh& mesh, const EdgeData<char>& feature,
 namespace {
 
 // The stages from segmentation on, on the (possibly subdivided) surface already in `run`.
-void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
+// `tips` and `vsa` (an earlier run's VSA partition, or null): SegmentOptions.
+void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>& tips,
+                const FaceData<uint32_t>* vsa, ComponentRun& run) {
   auto t0 = Clock::now();
   const TriMesh& surface = run.surface.mesh;
   // A large surface's elimination order (param/ordering.hpp) depends on the surface alone: it
   // is computed on a second thread while the segmentation runs, and serves every map below.
-  std::vector<uint32_t> surface_ranks, ranks;
+  std::vector<uint32_t> ranks;
   const bool dissect = o.last != Stage::segment && o.last != Stage::layout &&
                        surface.num_vertices() >= kNestedDissectionVertices;
   tbb::parallel_invoke(
       [&] {
-        run.seg =
-            segment(surface, run.surface_feature, SegmentOptions::sized(h, o.patches, o.seed));
+        SegmentOptions so = SegmentOptions::sized(h, o.patches, o.seed);
+        so.tips = tips;
+        so.vsa_labels = vsa;
+        run.seg = segment(surface, run.surface_feature, so);
       },
       [&] {
-        if (dissect) surface_ranks = nested_dissection_ranks(surface);
+        if (dissect && run.surface_ranks.size() != surface.num_vertices())
+          run.surface_ranks = nested_dissection_ranks(surface);
       });
   run.segment_seconds += seconds_since(t0);
   if (o.last == Stage::segment) return;
@@ -113,7 +119,7 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
     run.param_report = {};
     const TriMesh& mesh = run.seg.refined.mesh;
     if (dissect && ranks.size() != mesh.num_vertices())  // first map, or refined since
-      ranks = extend_ranks(mesh, surface_ranks);
+      ranks = extend_ranks(mesh, run.surface_ranks);
     run.param = parametrize(mesh, run.seg.labels, run.seg.meta, run.layout, o.param,
                             run.param_report, dissect ? &ranks : nullptr);
     run.param_seconds += seconds_since(t);
@@ -303,6 +309,90 @@ void run_stages(double h, const PipelineOptions& o, ComponentRun& run) {
 
 namespace {
 
+// Surface vertices where the quads are farther than `far` h from the surface, the farthest
+// first, none within `spacing` h of one taken before: vertices farther than that from the quads
+// (a tip they cut off), and the surface vertex nearest to a quad's centre or edge midpoint
+// farther than that from the surface (a valley they bridge).
+std::vector<uint32_t> cut_off_tips(const TriMesh& surface, const AabbTree& surface_tree,
+                                   const QuadMesh& quads, double h, double far, double spacing) {
+  const AabbTree tree(fan_triangles(quads));
+  std::vector<std::pair<double, uint32_t>> candidates;
+  for (uint32_t v = 0; v < surface.num_vertices(); ++v) {
+    const double d = tree.closest(surface.position(v)).distance;
+    if (d > far * h) candidates.push_back({-d, v});
+  }
+  const auto& p = quads.positions;
+  for (const auto& q : quads.quads) {
+    const Vec3 c = 0.25 * (p[q[0]] + p[q[1]] + p[q[2]] + p[q[3]]);
+    for (const Vec3& x : {c, 0.5 * (p[q[0]] + p[q[1]]), 0.5 * (p[q[1]] + p[q[2]]),
+                          0.5 * (p[q[2]] + p[q[3]]), 0.5 * (p[q[3]] + p[q[0]])}) {
+      const AabbTree::Hit hit = surface_tree.closest(x);
+      if (hit.distance <= far * h) continue;
+      uint32_t nearest = kInvalid;
+      double best = INFINITY;
+      for (const uint32_t v : surface.face(hit.triangle))
+        if (norm(surface.position(v) - hit.point) < best)
+          best = norm(surface.position(v) - hit.point), nearest = v;
+      candidates.push_back({-hit.distance, nearest});
+    }
+  }
+  std::sort(candidates.begin(), candidates.end());
+  std::vector<uint32_t> tips;
+  for (const auto& [d, v] : candidates)
+    if (std::none_of(tips.begin(), tips.end(), [&](uint32_t t) {
+          return norm(surface.position(t) - surface.position(v)) < spacing * h;
+        }))
+      tips.push_back(v);
+  return tips;
+}
+
+// A run's quads, their two-sided distance to `surface` (sampled as `isoquad quality` does) over
+// `diagonal`, and its folded quads.
+SizeRound measure_run(const ComponentRun& run, const AabbTree& surface, double diagonal) {
+  const QualityOptions measure;
+  const double d =
+      surface_distance(fan_triangles(run.quads), surface, measure.samples, measure.seed).max;
+  return SizeRound{run.quads.quads.size(), d / diagonal, run.untangle_report.nonpositive};
+}
+
+// PipelineOptions::tip_split: the run again with the tips of `run` made meta-vertices, from
+// the same VSA partition; the closer run with no more folded quads is kept.
+void split_tips(double h, const PipelineOptions& o, ComponentRun& run) {
+  if (!o.tip_split || o.last != Stage::extract || run.quads.quads.empty()) return;
+  const AabbTree surface(face_triangles(run.surface.mesh));
+  std::vector<uint32_t> tips = cut_off_tips(run.surface.mesh, surface, run.quads,
+                                            run.layout.edge_length, kTipFar, kTipSpacing);
+  if (tips.empty()) return;
+  ComponentRun again;
+  again.component = run.component;
+  again.area_share = run.area_share;
+  again.surface = run.surface;
+  again.surface_feature = run.surface_feature;
+  again.subdivisions = run.subdivisions;
+  again.surface_ranks = run.surface_ranks;
+  again.subdivision_retreats = run.subdivision_retreats;
+  again.corners_unrefined = run.corners_unrefined;
+  try {
+    run_stages(h, o, tips, &run.seg.vsa_labels, again);
+  } catch (const Error&) {
+    return;  // the run without tips stands
+  }
+  again.seg.energy_log = run.seg.energy_log;
+  const double diagonal = run.surface.mesh.bounding_box().diagonal();
+  const SizeRound before = measure_run(run, surface, diagonal),
+                  after = measure_run(again, surface, diagonal);
+  const bool better = after.folded <= before.folded && after.distance < before.distance;
+  ComponentRun& loser = better ? run : again;
+  ComponentRun& winner = better ? again : run;
+  winner.segment_seconds += loser.segment_seconds, winner.layout_seconds += loser.layout_seconds;
+  winner.param_seconds += loser.param_seconds, winner.extract_seconds += loser.extract_seconds;
+  winner.tips = std::move(tips);
+  winner.before_tips = before;
+  winner.after_tips = after;
+  winner.tips_kept = better;
+  if (better) run = std::move(again);
+}
+
 // The component at the size `o` asks for.
 ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
   double total_area = 0;
@@ -326,7 +416,8 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
                                    run.surface_feature, run.subdivisions, max_levels);
     run.segment_seconds += seconds_since(t0);
     try {
-      run_stages(h, stages, run);
+      run_stages(h, stages, {}, nullptr, run);
+      split_tips(h, stages, run);
       return run;
     } catch (const Error& e) {
       if (e.code() == "E553" && stages.layout.improve_corners) {
@@ -353,12 +444,7 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
     for (const Vec3& p : comp.mesh.positions()) box.add(p);
   const double diagonal = box.diagonal() > 0 ? box.diagonal() : 1.0;
   const AabbTree surface(face_triangles(prep.components[c].mesh));
-  const QualityOptions measure;  // the distance as `isoquad quality` samples it
-  auto round_of = [&](const ComponentRun& r) {
-    const double d =
-        surface_distance(fan_triangles(r.quads), surface, measure.samples, measure.seed).max;
-    return SizeRound{r.quads.quads.size(), d / diagonal, r.untangle_report.nonpositive};
-  };
+  auto round_of = [&](const ComponentRun& r) { return measure_run(r, surface, diagonal); };
   std::vector<SizeRound> rounds{round_of(run)};
   uint32_t kept = 0;
   const double first = double(rounds[0].quads);

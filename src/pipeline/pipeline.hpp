@@ -57,10 +57,17 @@ struct PipelineOptions {
   // need more fold repairs).
   double tolerance = 0;
   uint32_t tolerance_rounds = 2;
+  // Where the quads are farther than kTipFar h from the surface (a tip they cut off, a valley
+  // they bridge), the surface vertex there becomes a meta-vertex (seg/tip_split.hpp), hence a
+  // lattice point, and the component runs again from the same VSA partition; the run with the
+  // smaller two-sided distance and no more folded quads is kept.
+  bool tip_split = true;
   Stage last = Stage::extract;
 };
 
 constexpr double kToleranceMaxGrowth = 4;
+// Tips are farther than kTipFar h from the other side, and kTipSpacing h from one another.
+constexpr double kTipFar = 0.5, kTipSpacing = 3;
 
 // One size tried for a component: its quads, their two-sided distance to the component over
 // the mesh's bounding-box diagonal, and how many quads were left folded.
@@ -78,6 +85,8 @@ struct ComponentRun {
   RefinedMesh surface;
   EdgeData<char> surface_feature;
   uint32_t subdivisions = 0;
+  // The surface's elimination order (param/ordering.hpp) for large surfaces, computed once.
+  std::vector<uint32_t> surface_ranks;
   uint32_t subdivision_retreats = 0;  // levels given up because the finer map did not certify
   bool corners_unrefined = false;     // the refined corners' map did not certify: the ILP's used
   uint32_t fold_rounds = 0, fold_rounds_kept = 0;  // thickening rounds tried and kept
@@ -87,6 +96,12 @@ struct ComponentRun {
   // was kept.
   std::vector<SizeRound> size_rounds;
   uint32_t size_round_kept = 0;
+  // PipelineOptions::tip_split: the tips (vertices of `surface`) of the run without them, the
+  // two runs' two-sided distance (over the component's bounding-box diagonal) and folds, and
+  // whether the run with the tips split is the one here.
+  std::vector<uint32_t> tips;
+  SizeRound before_tips, after_tips;
+  bool tips_kept = false;
   SegmentResult seg;
   std::optional<QuadSplitReport> quad_split;  // when the patches were split into quads
   Layout layout;

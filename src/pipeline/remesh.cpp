@@ -38,7 +38,8 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"fold_rounds", o.fold_rounds},
           {"split_patches", o.split_patches},
           {"tolerance", o.tolerance},
-          {"tolerance_rounds", o.tolerance_rounds}};
+          {"tolerance_rounds", o.tolerance_rounds},
+          {"tip_split", o.tip_split}};
 }
 
 }  // namespace
@@ -89,6 +90,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.quad_split = opt.split_patches;
   o.tolerance = opt.tolerance;
   o.tolerance_rounds = opt.tolerance_rounds;
+  o.tip_split = opt.tip_split;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;
@@ -115,6 +117,11 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
       say(fmt::format("component {}: sizes tried for the {:.2f}% tolerance: {}", c,
                       100 * o.tolerance, tried));
     }
+    if (!r.tips.empty())
+      say(fmt::format("component {}: {} tip{} split: {:.2f}% {} folded -> {:.2f}% {} folded ({})",
+                      c, r.tips.size(), r.tips.size() == 1 ? "" : "s", 100 * r.before_tips.distance,
+                      r.before_tips.folded, 100 * r.after_tips.distance, r.after_tips.folded,
+                      r.tips_kept ? "kept" : "undone"));
     std::map<std::string, int> valence;
     // How far the integer lengths are from the geodesic ones: x_e / c_e per meta-edge.
     const std::vector<double> ratio = r.layout.length_ratios();
@@ -126,7 +133,14 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     nlohmann::json sizes = nlohmann::json::array();
     for (const SizeRound& s : r.size_rounds)
       sizes.push_back({{"quads", s.quads}, {"hausdorff", s.distance}, {"folded", s.folded}});
+    // Distances over the component's bounding-box diagonal.
+    const nlohmann::json tips = {
+        {"tips", r.tips.size()},
+        {"kept", r.tips_kept},
+        {"before", {{"hausdorff", r.before_tips.distance}, {"folded", r.before_tips.folded}}},
+        {"after", {{"hausdorff", r.after_tips.distance}, {"folded", r.after_tips.folded}}}};
     comps.push_back({{"component", prep.components[c].report_index},
+                     {"tip_split", tips},
                      {"size_rounds", {{"tried", sizes}, {"kept", r.size_round_kept}}},
                      {"subdivisions", r.subdivisions},
                      {"subdivision_retreats", r.subdivision_retreats},

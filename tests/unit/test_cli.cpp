@@ -8,7 +8,9 @@
 #include <sstream>
 
 #include "corpus.hpp"
+#include "io/write_mesh.hpp"
 #include "report_checks.hpp"
+#include "shapes.hpp"
 
 namespace {
 
@@ -436,4 +438,41 @@ TEST(Cli, ToleranceRemeshesFinerAtTheDefaultSize) {
   EXPECT_TRUE(nlohmann::json::parse(c.out)["components"][0]["size_rounds"]["tried"].empty());
   EXPECT_NE(run("remesh " + sphere + " -o " + out.string() + " --tolerance 2").status, 0);
   std::filesystem::remove(out);
+}
+
+TEST(Cli, TipSplitIsReportedAndCanBeTurnedOff) {
+  // The bumpy sphere of the extraction tests (every 97th vertex raised by 12%): at 300 quads
+  // the first run cuts bumps off, the run with them split is kept, and the progress and the JSON
+  // say so; --no-tip-split runs once.
+  isoquad::PolyMesh bumpy = isoquad::test::icosphere(4);
+  for (std::size_t v = 0; v < bumpy.positions.size(); v += 97)
+    bumpy.positions[v] = 1.12 * bumpy.positions[v];
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("isoquad_cli_tips_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string in = (dir / "bumpy.off").string(), out = (dir / "quads.obj").string();
+  isoquad::write_mesh(in, bumpy);
+  for (const bool split : {true, false}) {
+    const CliRun a = run("remesh " + in + " -o " + out + " --quads 300 --json" +
+                         (split ? "" : " --no-tip-split"));
+    ASSERT_EQ(a.status, 0) << a.err;
+    const auto j = nlohmann::json::parse(a.out);
+    EXPECT_EQ(j["options"]["tip_split"].get<bool>(), split);
+    const auto& tips = j["components"][0]["tip_split"];
+    if (split) {
+      EXPECT_GT(tips["tips"].get<int>(), 0) << tips;
+      EXPECT_TRUE(tips["kept"].get<bool>());
+      EXPECT_LT(tips["after"]["hausdorff"].get<double>(),
+                tips["before"]["hausdorff"].get<double>());
+      EXPECT_NEAR(j["quality"]["hausdorff"].get<double>(), tips["after"]["hausdorff"].get<double>(),
+                  0.1 * tips["after"]["hausdorff"].get<double>());
+      EXPECT_NE(a.err.find("split:"), std::string::npos) << a.err;
+      EXPECT_NE(a.err.find("(kept)"), std::string::npos) << a.err;
+    } else {
+      EXPECT_EQ(tips["tips"].get<int>(), 0) << tips;
+      EXPECT_EQ(a.err.find("split:"), std::string::npos) << a.err;
+    }
+    EXPECT_TRUE(j["quality"]["pure_quad"].get<bool>());
+  }
+  std::filesystem::remove_all(dir);
 }

@@ -28,12 +28,13 @@ struct Remeshed {
 };
 
 Remeshed remesh_shape(const PolyMesh& m, uint32_t k, double quads,
-                      WeightKind weights = WeightKind::smvc, bool untangle = true,
-                      bool snap = true) {
+                      WeightKind weights = WeightKind::smvc, bool untangle = true, bool snap = true,
+                      bool tip_split = false) {
   Remeshed r{prepare(m), {}, {}};
   PipelineOptions o;
   o.untangle = untangle;
   o.snap = snap;
+  o.tip_split = tip_split;  // the stages of one run, unless asked
   o.param.weights = weights;
   o.patches = k;
   o.quads = quads;
@@ -309,6 +310,36 @@ TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {
 // two-sided distance as `isoquad quality` measures it, no quad folds or gets worse than a
 // scaled Jacobian of 0.2 (against the surface or its own normal) that was better, the connectivity
 // is the same, every corner stays on the surface, and the result does not depend on the run.
+TEST(TipSplit, BumpsTheQuadsCutOffBecomeCorners) {
+  // A sphere with bumps a third of an edge length high: the quads of one run cut them off; with
+  // the farthest made meta-vertices the run again passes through them and is kept.
+  PolyMesh bumpy = test::icosphere(4);
+  for (std::size_t v = 0; v < bumpy.positions.size(); v += 97)
+    bumpy.positions[v] = 1.12 * bumpy.positions[v];
+  const Remeshed once = remesh_shape(bumpy, 0, 300, WeightKind::smvc, true, false, false);
+  const Remeshed r = remesh_shape(bumpy, 0, 300, WeightKind::smvc, true, false, true);
+  EXPECT_TRUE(once.run.tips.empty());
+  ASSERT_FALSE(r.run.tips.empty());
+  EXPECT_TRUE(r.run.tips_kept);
+  EXPECT_EQ(r.run.seg.tip_split.split, r.run.tips.size());
+  for (const uint32_t t : r.run.tips) {
+    EXPECT_NE(r.run.seg.meta.vertex_meta_vertex[t], kInvalid);
+    // The tip is a corner of the quads (no untangling move was needed there).
+    const Vec3& p = r.prep.components[0].mesh.position(t);
+    double nearest = INFINITY;
+    for (const Vec3& x : r.run.quads.positions) nearest = std::min(nearest, norm(x - p));
+    EXPECT_LT(nearest, 0.05 * r.run.layout.edge_length);
+  }
+  EXPECT_LT(r.run.after_tips.distance, r.run.before_tips.distance);
+  EXPECT_LE(r.run.after_tips.folded, r.run.before_tips.folded);
+  const QualityReport q0 = measure_quality(once.quads, &bumpy);
+  const QualityReport q1 = measure_quality(r.quads, &bumpy);
+  EXPECT_TRUE(q1.pure_quad);
+  EXPECT_TRUE(q1.same_topology);
+  EXPECT_LE(q1.sj_surface_nonpositive, q0.sj_surface_nonpositive);
+  EXPECT_LT(q1.hausdorff, q0.hausdorff);
+}
+
 TEST(Snap, MovesCornersOntoTipsTheQuadsCutOff) {
   PolyMesh bumpy = test::icosphere(4);
   for (std::size_t v = 0; v < bumpy.positions.size(); v += 97)
