@@ -66,10 +66,11 @@ Runner add_remesh(CLI::App& app) {
                 "the quads cut off a tip of the surface (by default nearby corners are moved "
                 "onto such tips where that makes no quad worse than a scaled Jacobian of 0.2)");
   sub->add_flag("--no-tip-split", a->no_tip_split,
-                "Run once, even where the quads cut off a tip of the surface or bridge a valley "
-                "by more than half an edge length (by default the surface vertex there becomes "
-                "a patch corner, the mesh is remeshed from the same patches, and the closer "
-                "result with no more folded quads is kept)");
+                "Run once, even where the quads are farther than 1% of the bounding-box "
+                "diagonal (or --tolerance) from the surface (by default the surface vertices "
+                "where they cut off a tip or bridge a valley become patch corners, the mesh is "
+                "remeshed from the same patches, and the closer result with no more folded "
+                "quads is kept)");
   sub->add_option("--fold-rounds", a->fold_rounds,
                   "Where quads still fold after untangling, give their patches one more quad "
                   "across and solve the lengths, map and quads again, at most this often (a round "

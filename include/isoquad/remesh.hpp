@@ -30,9 +30,9 @@ struct RemeshOptions {
   bool snap = true;                // move corners onto tips the quads cut off (extract/snap.hpp)
   uint32_t fold_rounds = 2;        // more quads across patches still folded, re-solved this often
   bool split_patches = false;      // every patch four-sided first (the paper's §5 repair)
-  // Where the quads are more than half an edge length off the surface (a tip cut off, a valley
-  // bridged), make the surface vertex there a patch corner and run again; keep the closer run
-  // with no more folded quads.
+  // Where the quads are farther than 1% of the diagonal (or `tolerance`) from the surface, make
+  // the surface vertices where they cut off a tip or bridge a valley patch corners and run
+  // again; keep the closer run with no more folded quads.
   bool tip_split = true;
   // At the default size (no quads, no edge length): remesh a component with more quads while its
   // quads are farther than this fraction of the bounding-box diagonal from the input (two-sided

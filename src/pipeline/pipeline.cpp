@@ -309,17 +309,19 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
 
 namespace {
 
-// Surface vertices where the quads are farther than `far` h from the surface, the farthest
-// first, none within `spacing` h of one taken before: vertices farther than that from the quads
+// Surface vertices where the quads are farther than `far` from the surface, the farthest
+// first, none within `spacing` of one taken before: vertices farther than that from the quads
 // (a tip they cut off), and the surface vertex nearest to a quad's centre or edge midpoint
-// farther than that from the surface (a valley they bridge).
+// farther than that from the surface (a valley they bridge). `farthest`: the largest distance
+// seen.
 std::vector<uint32_t> cut_off_tips(const TriMesh& surface, const AabbTree& surface_tree,
-                                   const QuadMesh& quads, double h, double far, double spacing) {
+                                   const QuadMesh& quads, double far, double spacing,
+                                   double& farthest) {
   const AabbTree tree(fan_triangles(quads));
   std::vector<std::pair<double, uint32_t>> candidates;
   for (uint32_t v = 0; v < surface.num_vertices(); ++v) {
     const double d = tree.closest(surface.position(v)).distance;
-    if (d > far * h) candidates.push_back({-d, v});
+    if (d > far) candidates.push_back({-d, v});
   }
   const auto& p = quads.positions;
   for (const auto& q : quads.quads) {
@@ -327,7 +329,7 @@ std::vector<uint32_t> cut_off_tips(const TriMesh& surface, const AabbTree& surfa
     for (const Vec3& x : {c, 0.5 * (p[q[0]] + p[q[1]]), 0.5 * (p[q[1]] + p[q[2]]),
                           0.5 * (p[q[2]] + p[q[3]]), 0.5 * (p[q[3]] + p[q[0]])}) {
       const AabbTree::Hit hit = surface_tree.closest(x);
-      if (hit.distance <= far * h) continue;
+      if (hit.distance <= far) continue;
       uint32_t nearest = kInvalid;
       double best = INFINITY;
       for (const uint32_t v : surface.face(hit.triangle))
@@ -337,13 +339,22 @@ std::vector<uint32_t> cut_off_tips(const TriMesh& surface, const AabbTree& surfa
     }
   }
   std::sort(candidates.begin(), candidates.end());
+  farthest = candidates.empty() ? 0 : -candidates.front().first;
   std::vector<uint32_t> tips;
   for (const auto& [d, v] : candidates)
-    if (std::none_of(tips.begin(), tips.end(), [&](uint32_t t) {
-          return norm(surface.position(t) - surface.position(v)) < spacing * h;
+    if (-d > 0.5 * farthest && std::none_of(tips.begin(), tips.end(), [&](uint32_t t) {
+          return norm(surface.position(t) - surface.position(v)) < spacing;
         }))
       tips.push_back(v);
   return tips;
+}
+
+// The bounding-box diagonal of all components (1 if they are a point).
+double mesh_diagonal(const PreparedMesh& prep) {
+  Box3 box;
+  for (const PreparedComponent& comp : prep.components)
+    for (const Vec3& p : comp.mesh.positions()) box.add(p);
+  return box.diagonal() > 0 ? box.diagonal() : 1.0;
 }
 
 // A run's quads, their two-sided distance to `surface` (sampled as `isoquad quality` does) over
@@ -357,12 +368,15 @@ SizeRound measure_run(const ComponentRun& run, const AabbTree& surface, double d
 
 // PipelineOptions::tip_split: the run again with the tips of `run` made meta-vertices, from
 // the same VSA partition; the closer run with no more folded quads is kept.
-void split_tips(double h, const PipelineOptions& o, ComponentRun& run) {
+void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRun& run) {
   if (!o.tip_split || o.last != Stage::extract || run.quads.quads.empty()) return;
   const AabbTree surface(face_triangles(run.surface.mesh));
-  std::vector<uint32_t> tips = cut_off_tips(run.surface.mesh, surface, run.quads,
-                                            run.layout.edge_length, kTipFar, kTipSpacing);
-  if (tips.empty()) return;
+  const double edge = run.layout.edge_length;
+  double farthest = 0;
+  std::vector<uint32_t> tips = cut_off_tips(run.surface.mesh, surface, run.quads, kTipFar * edge,
+                                            kTipSpacing * edge, farthest);
+  const double target = o.tolerance > 0 ? o.tolerance : kTipTarget;
+  if (tips.empty() || farthest <= target * diagonal) return;
   ComponentRun again;
   again.component = run.component;
   again.area_share = run.area_share;
@@ -378,7 +392,6 @@ void split_tips(double h, const PipelineOptions& o, ComponentRun& run) {
     return;  // the run without tips stands
   }
   again.seg.energy_log = run.seg.energy_log;
-  const double diagonal = run.surface.mesh.bounding_box().diagonal();
   const SizeRound before = measure_run(run, surface, diagonal),
                   after = measure_run(again, surface, diagonal);
   const bool better = after.folded <= before.folded && after.distance < before.distance;
@@ -403,6 +416,7 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
   run.area_share = total_area > 0 ? surface_area(comp.mesh) / total_area : 1.0;
   const double h = component_edge_length(comp.mesh, run.area_share, {o.edge_length, o.quads},
                                          prep.normalization.scale);
+  const double diagonal = mesh_diagonal(prep);
   // A big patch with a long protrusion crowds its tip exponentially in any harmonic map; on a
   // finer surface the crowded triangles get too small to certify (E553), and few patches on a
   // fine surface may not be cut into disks (E201). Refined corners can ask such a patch for a
@@ -417,7 +431,7 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
     run.segment_seconds += seconds_since(t0);
     try {
       run_stages(h, stages, {}, nullptr, run);
-      split_tips(h, stages, run);
+      split_tips(h, stages, diagonal, run);
       return run;
     } catch (const Error& e) {
       if (e.code() == "E553" && stages.layout.improve_corners) {
@@ -439,10 +453,7 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   if (o.edge_length > 0 || o.quads > 0 || o.tolerance <= 0 || o.tolerance_rounds == 0 ||
       o.last != Stage::extract || run.quads.quads.empty())
     return run;
-  Box3 box;
-  for (const PreparedComponent& comp : prep.components)
-    for (const Vec3& p : comp.mesh.positions()) box.add(p);
-  const double diagonal = box.diagonal() > 0 ? box.diagonal() : 1.0;
+  const double diagonal = mesh_diagonal(prep);
   const AabbTree surface(face_triangles(prep.components[c].mesh));
   auto round_of = [&](const ComponentRun& r) { return measure_run(r, surface, diagonal); };
   std::vector<SizeRound> rounds{round_of(run)};

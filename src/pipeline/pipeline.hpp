@@ -57,17 +57,20 @@ struct PipelineOptions {
   // need more fold repairs).
   double tolerance = 0;
   uint32_t tolerance_rounds = 2;
-  // Where the quads are farther than kTipFar h from the surface (a tip they cut off, a valley
-  // they bridge), the surface vertex there becomes a meta-vertex (seg/tip_split.hpp), hence a
-  // lattice point, and the component runs again from the same VSA partition; the run with the
-  // smaller two-sided distance and no more folded quads is kept.
+  // Where the quads are farther than the distance target (`tolerance`, or kTipTarget of the
+  // diagonal) from the surface, every point farther than kTipFar h (a tip they cut off, a valley
+  // they bridge) becomes a meta-vertex (seg/tip_split.hpp), hence a lattice point, and the
+  // component runs again from the same VSA partition; the run with the smaller two-sided
+  // distance and no more folded quads is kept.
   bool tip_split = true;
   Stage last = Stage::extract;
 };
 
 constexpr double kToleranceMaxGrowth = 4;
-// Tips are farther than kTipFar h from the other side, and kTipSpacing h from one another.
-constexpr double kTipFar = 0.5, kTipSpacing = 3;
+// Tips are farther than kTipFar h from the other side, and kTipSpacing h from one another; they
+// are split when the farthest is beyond kTipTarget of the bounding-box diagonal (the distance
+// the default size aims at) or the tolerance asked for.
+constexpr double kTipFar = 0.3, kTipSpacing = 3, kTipTarget = 0.01;
 
 // One size tried for a component: its quads, their two-sided distance to the component over
 // the mesh's bounding-box diagonal, and how many quads were left folded.
@@ -97,7 +100,7 @@ struct ComponentRun {
   std::vector<SizeRound> size_rounds;
   uint32_t size_round_kept = 0;
   // PipelineOptions::tip_split: the tips (vertices of `surface`) of the run without them, the
-  // two runs' two-sided distance (over the component's bounding-box diagonal) and folds, and
+  // two runs' two-sided distance (over the mesh's bounding-box diagonal) and folds, and
   // whether the run with the tips split is the one here.
   std::vector<uint32_t> tips;
   SizeRound before_tips, after_tips;

@@ -133,7 +133,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     nlohmann::json sizes = nlohmann::json::array();
     for (const SizeRound& s : r.size_rounds)
       sizes.push_back({{"quads", s.quads}, {"hausdorff", s.distance}, {"folded", s.folded}});
-    // Distances over the component's bounding-box diagonal.
+    // Distances over the mesh's bounding-box diagonal.
     const nlohmann::json tips = {
         {"tips", r.tips.size()},
         {"kept", r.tips_kept},

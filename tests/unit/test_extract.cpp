@@ -324,11 +324,12 @@ TEST(TipSplit, BumpsTheQuadsCutOffBecomeCorners) {
   EXPECT_EQ(r.run.seg.tip_split.split, r.run.tips.size());
   for (const uint32_t t : r.run.tips) {
     EXPECT_NE(r.run.seg.meta.vertex_meta_vertex[t], kInvalid);
-    // The tip is a corner of the quads (no untangling move was needed there).
+    // The tip, farther than 0.3 h from the first run's quads, is at or next to a corner of
+    // these (a singularity the untangler may move a little).
     const Vec3& p = r.prep.components[0].mesh.position(t);
     double nearest = INFINITY;
     for (const Vec3& x : r.run.quads.positions) nearest = std::min(nearest, norm(x - p));
-    EXPECT_LT(nearest, 0.05 * r.run.layout.edge_length);
+    EXPECT_LT(nearest, 0.2 * r.run.layout.edge_length);
   }
   EXPECT_LT(r.run.after_tips.distance, r.run.before_tips.distance);
   EXPECT_LE(r.run.after_tips.folded, r.run.before_tips.folded);
