@@ -90,14 +90,16 @@ std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh,
   return t;
 }
 
+double corner_angle(const TriMesh& mesh, uint32_t h) {
+  const Vec3 o = mesh.position(mesh.from(h));
+  const Vec3 a = mesh.position(mesh.to(h)) - o, b = mesh.position(mesh.from(TriMesh::prev(h))) - o;
+  return std::atan2(norm(cross(a, b)), dot(a, b));
+}
+
 double patch_angle(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v, uint32_t p) {
   double sum = 0;
   mesh.for_each_outgoing(v, [&](uint32_t h) {
-    if (p != kInvalid && labels[TriMesh::face_of(h)] != p) return;
-    const Vec3 o = mesh.position(v);
-    const Vec3 a = mesh.position(mesh.to(h)) - o,
-               b = mesh.position(mesh.from(TriMesh::prev(h))) - o;
-    sum += std::atan2(norm(cross(a, b)), dot(a, b));
+    if (p == kInvalid || labels[TriMesh::face_of(h)] == p) sum += corner_angle(mesh, h);
   });
   return sum;
 }

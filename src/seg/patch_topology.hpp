@@ -34,6 +34,9 @@ uint32_t next_patch_boundary_halfedge(const TriMesh& mesh, const FaceData<uint32
                                       uint32_t h);
 bool is_patch_boundary(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t h);
 
+// The angle of h's face at h's start vertex.
+double corner_angle(const TriMesh& mesh, uint32_t h);
+
 // Sum of the face angles at v over the faces of patch p (over every face if p is kInvalid).
 double patch_angle(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v, uint32_t p);
 

@@ -36,7 +36,7 @@ SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature,
   r.labels = r.vsa_labels;
   r.num_patches = make_disk_patches(mesh, r.labels, r.repair);
   if (!options.tips.empty()) {
-    split_patches_at_tips(mesh, feature, options.tips, r.labels, r.num_patches, r.tip_split);
+    split_patches_at_tips(mesh, options.tips, r.labels, r.num_patches, r.tip_split);
     r.num_patches = make_disk_patches(mesh, r.labels, r.repair);
   }
   if (options.straighten) straighten_seams(mesh, r.labels, r.num_patches, feature, r.straighten);

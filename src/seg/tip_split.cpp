@@ -1,5 +1,6 @@
 #include "seg/tip_split.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "seg/geodesic.hpp"
@@ -9,13 +10,6 @@ namespace isoquad {
 
 namespace {
 
-// The angle at v in the face of its outgoing halfedge h.
-double angle_at(const TriMesh& mesh, uint32_t v, uint32_t h) {
-  const Vec3 o = mesh.position(v);
-  const Vec3 a = mesh.position(mesh.to(h)) - o, b = mesh.position(mesh.from(TriMesh::prev(h))) - o;
-  return std::atan2(norm(cross(a, b)), dot(a, b));
-}
-
 // The faces of `fan` (CCW around v) in `parts` runs of about equal angle at v.
 std::vector<std::vector<uint32_t>> sectors(const TriMesh& mesh, uint32_t v,
                                            const std::vector<uint32_t>& fan, uint32_t parts) {
@@ -24,7 +18,7 @@ std::vector<std::vector<uint32_t>> sectors(const TriMesh& mesh, uint32_t v,
   for (std::size_t i = 0; i < fan.size(); ++i) {
     const Tri& t = mesh.face(fan[i]);
     const uint32_t k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
-    angle[i] = angle_at(mesh, v, 3 * fan[i] + k);
+    angle[i] = corner_angle(mesh, 3 * fan[i] + k);
     total += angle[i];
   }
   std::vector<std::vector<uint32_t>> out(parts);
@@ -41,9 +35,8 @@ std::vector<std::vector<uint32_t>> sectors(const TriMesh& mesh, uint32_t v,
 
 }  // namespace
 
-void split_patches_at_tips(const TriMesh& mesh, const EdgeData<char>& /*feature*/,
-                           const std::vector<uint32_t>& tips, FaceData<uint32_t>& labels,
-                           uint32_t& num_patches, TipSplitLog& log) {
+void split_patches_at_tips(const TriMesh& mesh, const std::vector<uint32_t>& tips,
+                           FaceData<uint32_t>& labels, uint32_t& num_patches, TipSplitLog& log) {
   for (const uint32_t t : tips) {
     ++log.tips;
     if (mesh.is_boundary_vertex(t)) {

@@ -29,8 +29,7 @@ struct TipSplitLog {
 // Relabels `labels` in place; new patches get labels from `num_patches` on, which is raised.
 // Deterministic: tips in the order given, sectors from each tip's first outgoing halfedge.
 // \pre every tip is a vertex of `mesh`; labels hold patch ids below num_patches.
-void split_patches_at_tips(const TriMesh& mesh, const EdgeData<char>& feature,
-                           const std::vector<uint32_t>& tips, FaceData<uint32_t>& labels,
-                           uint32_t& num_patches, TipSplitLog& log);
+void split_patches_at_tips(const TriMesh& mesh, const std::vector<uint32_t>& tips,
+                           FaceData<uint32_t>& labels, uint32_t& num_patches, TipSplitLog& log);
 
 }  // namespace isoquad

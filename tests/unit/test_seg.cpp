@@ -321,7 +321,7 @@ TEST(TipSplit, TipInsideAPatchBecomesAJunctionOfThreeWedges) {
   const uint32_t pole = nearest_vertex(m, {0, 0, 1});
   uint32_t n = 2;
   TipSplitLog log;
-  split_patches_at_tips(m, c.feature, {pole}, labels, n, log);
+  split_patches_at_tips(m, {pole}, labels, n, log);
   EXPECT_EQ(log.tips, 1u);
   EXPECT_EQ(log.split, 1u);
   EXPECT_EQ(n, 4u);
@@ -369,7 +369,7 @@ TEST(TipSplit, TipOnASeamCutsTheWiderSideInTwo) {
   ASSERT_GT(wide, narrow);
   uint32_t n = 2;
   TipSplitLog log;
-  split_patches_at_tips(m, c.feature, {seam}, labels, n, log);
+  split_patches_at_tips(m, {seam}, labels, n, log);
   EXPECT_EQ(log.split, 1u);
   EXPECT_EQ(n, 3u);
   EXPECT_EQ(patches_at(m, labels, seam), (std::set<uint32_t>{0, 1, 2}));
@@ -405,7 +405,7 @@ TEST(TipSplit, JunctionIsLeftAlone) {
   FaceData<uint32_t> labels = r.labels;
   uint32_t n = r.num_patches;
   TipSplitLog log;
-  split_patches_at_tips(r.refined.mesh, r.feature, {junction.vertex}, labels, n, log);
+  split_patches_at_tips(r.refined.mesh, {junction.vertex}, labels, n, log);
   EXPECT_EQ(log.split, 0u);
   EXPECT_EQ(n, r.num_patches);
   EXPECT_TRUE(std::equal(labels.begin(), labels.end(), r.labels.begin()));
