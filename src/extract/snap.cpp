@@ -272,15 +272,18 @@ Roles snap_roles(const QuadMesh& qm, const MetaMesh& meta) {
 }  // namespace
 
 void snap_tips(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, const MetaMesh& meta,
-               const SnapOptions& o, SnapReport& report) {
+               const SnapOptions& o, SnapReport& report, const AabbTree* base_tree) {
   const auto t0 = std::chrono::steady_clock::now();
   report = {};
   const uint32_t n = uint32_t(qm.positions.size());
   const double h = o.edge_length, far = o.far * h;
   std::optional<AabbTree> surface_tree, quad_tree;
-  tbb::parallel_invoke([&] { surface_tree.emplace(face_triangles(base)); },
-                       [&] { quad_tree.emplace(fan_triangles(qm)); });
-  const AabbTree& surface = *surface_tree;
+  tbb::parallel_invoke(
+      [&] {
+        if (!base_tree) surface_tree.emplace(face_triangles(base));
+      },
+      [&] { quad_tree.emplace(fan_triangles(qm)); });
+  const AabbTree& surface = base_tree ? *base_tree : *surface_tree;
   Snapper s{qm, base, surface, far, o.min_sj, {}, {}, {}, {}};
   s.around.resize(n);
   for (uint32_t f = 0; f < qm.quads.size(); ++f)

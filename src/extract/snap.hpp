@@ -17,6 +17,7 @@
 
 #include "extract/extract.hpp"
 #include "layout/meta_mesh.hpp"
+#include "metrics/aabb_tree.hpp"
 
 namespace isoquad {
 
@@ -37,9 +38,10 @@ struct SnapReport {
 };
 
 // `base` is the surface the quads' SurfacePoints refer to; `seams` the mesh whose vertices the
-// meta-edges list (base with its dividing edges split).
+// meta-edges list (base with its dividing edges split); `base_tree`, if given, a tree of base's
+// faces in order (face_triangles), built here otherwise.
 // \pre every quad corner's SurfacePoint is on `base`; options.edge_length > 0.
 void snap_tips(QuadMesh& quads, const TriMesh& base, const TriMesh& seams, const MetaMesh& meta,
-               const SnapOptions& options, SnapReport& report);
+               const SnapOptions& options, SnapReport& report, const AabbTree* base_tree = nullptr);
 
 }  // namespace isoquad

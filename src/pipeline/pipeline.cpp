@@ -6,6 +6,7 @@
 #include <chrono>
 #include <optional>
 
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include "isoquad/error.hpp"
@@ -52,6 +53,13 @@ RefinedMesh subdivide_coarse(const TriMesh& mesh, const EdgeData<char>& feature,
 }
 
 namespace {
+
+// The tree of run.surface's faces, built on first use.
+const AabbTree& surface_tree(ComponentRun& run) {
+  if (!run.surface_tree)
+    run.surface_tree = std::make_shared<const AabbTree>(face_triangles(run.surface.mesh));
+  return *run.surface_tree;
+}
 
 // The stages from segmentation on, on the (possibly subdivided) surface already in `run`.
 // `tips` and `vsa` (an earlier run's VSA partition, or null): SegmentOptions.
@@ -299,7 +307,8 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     t0 = Clock::now();
     SnapOptions so;
     so.edge_length = run.layout.edge_length;
-    snap_tips(run.quads, surface, run.seg.refined.mesh, run.seg.meta, so, run.snap_report);
+    snap_tips(run.quads, surface, run.seg.refined.mesh, run.seg.meta, so, run.snap_report,
+              &surface_tree(run));
     run.extract_seconds += seconds_since(t0);
   }
   to_component_points();
@@ -318,26 +327,40 @@ std::vector<uint32_t> cut_off_tips(const TriMesh& surface, const AabbTree& surfa
                                    const QuadMesh& quads, double far, double spacing,
                                    double& farthest) {
   const AabbTree tree(fan_triangles(quads));
+  // Independent queries, in parallel into their own slots; gathered in index order.
+  const uint32_t nv = surface.num_vertices(), nq = uint32_t(quads.quads.size());
+  std::vector<double> vertex_distance(nv);
+  std::vector<std::pair<double, uint32_t>> sample(5 * std::size_t(nq), {0.0, kInvalid});
+  tbb::parallel_invoke(
+      [&] {
+        tbb::parallel_for(uint32_t(0), nv, [&](uint32_t v) {
+          vertex_distance[v] = tree.closest(surface.position(v)).distance;
+        });
+      },
+      [&] {
+        const auto& p = quads.positions;
+        tbb::parallel_for(uint32_t(0), nq, [&](uint32_t i) {
+          const auto& q = quads.quads[i];
+          const Vec3 x[5] = {0.25 * (p[q[0]] + p[q[1]] + p[q[2]] + p[q[3]]),
+                             0.5 * (p[q[0]] + p[q[1]]), 0.5 * (p[q[1]] + p[q[2]]),
+                             0.5 * (p[q[2]] + p[q[3]]), 0.5 * (p[q[3]] + p[q[0]])};
+          for (int k = 0; k < 5; ++k) {
+            const AabbTree::Hit hit = surface_tree.closest(x[k]);
+            if (hit.distance <= far) continue;
+            uint32_t nearest = kInvalid;
+            double best = INFINITY;
+            for (const uint32_t v : surface.face(hit.triangle))
+              if (norm(surface.position(v) - hit.point) < best)
+                best = norm(surface.position(v) - hit.point), nearest = v;
+            sample[5 * std::size_t(i) + k] = {hit.distance, nearest};
+          }
+        });
+      });
   std::vector<std::pair<double, uint32_t>> candidates;
-  for (uint32_t v = 0; v < surface.num_vertices(); ++v) {
-    const double d = tree.closest(surface.position(v)).distance;
-    if (d > far) candidates.push_back({-d, v});
-  }
-  const auto& p = quads.positions;
-  for (const auto& q : quads.quads) {
-    const Vec3 c = 0.25 * (p[q[0]] + p[q[1]] + p[q[2]] + p[q[3]]);
-    for (const Vec3& x : {c, 0.5 * (p[q[0]] + p[q[1]]), 0.5 * (p[q[1]] + p[q[2]]),
-                          0.5 * (p[q[2]] + p[q[3]]), 0.5 * (p[q[3]] + p[q[0]])}) {
-      const AabbTree::Hit hit = surface_tree.closest(x);
-      if (hit.distance <= far) continue;
-      uint32_t nearest = kInvalid;
-      double best = INFINITY;
-      for (const uint32_t v : surface.face(hit.triangle))
-        if (norm(surface.position(v) - hit.point) < best)
-          best = norm(surface.position(v) - hit.point), nearest = v;
-      candidates.push_back({-hit.distance, nearest});
-    }
-  }
+  for (uint32_t v = 0; v < nv; ++v)
+    if (vertex_distance[v] > far) candidates.push_back({-vertex_distance[v], v});
+  for (const auto& [d, v] : sample)
+    if (v != kInvalid) candidates.push_back({-d, v});
   std::sort(candidates.begin(), candidates.end());
   farthest = candidates.empty() ? 0 : -candidates.front().first;
   std::vector<uint32_t> tips;
@@ -370,7 +393,7 @@ SizeRound measure_run(const ComponentRun& run, const AabbTree& surface, double d
 // the same VSA partition; the closer run with no more folded quads is kept.
 void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRun& run) {
   if (!o.tip_split || o.last != Stage::extract || run.quads.quads.empty()) return;
-  const AabbTree surface(face_triangles(run.surface.mesh));
+  const AabbTree& surface = surface_tree(run);
   const double edge = run.layout.edge_length;
   double farthest = 0;
   std::vector<uint32_t> tips = cut_off_tips(run.surface.mesh, surface, run.quads, kTipFar * edge,
@@ -384,6 +407,7 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
   again.surface_feature = run.surface_feature;
   again.subdivisions = run.subdivisions;
   again.surface_ranks = run.surface_ranks;
+  again.surface_tree = run.surface_tree;
   again.subdivision_retreats = run.subdivision_retreats;
   again.corners_unrefined = run.corners_unrefined;
   try {
@@ -428,6 +452,7 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
     const auto t0 = Clock::now();
     run.surface = subdivide_coarse(comp.mesh, comp.feature, h, o.triangles_per_quad,
                                    run.surface_feature, run.subdivisions, max_levels);
+    run.surface_tree.reset();
     run.segment_seconds += seconds_since(t0);
     try {
       run_stages(h, stages, {}, nullptr, run);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -88,8 +89,10 @@ struct ComponentRun {
   RefinedMesh surface;
   EdgeData<char> surface_feature;
   uint32_t subdivisions = 0;
-  // The surface's elimination order (param/ordering.hpp) for large surfaces, computed once.
+  // The surface's elimination order (param/ordering.hpp) for large surfaces, and a tree of its
+  // faces (snapping, tip search), each computed once.
   std::vector<uint32_t> surface_ranks;
+  std::shared_ptr<const AabbTree> surface_tree;
   uint32_t subdivision_retreats = 0;  // levels given up because the finer map did not certify
   bool corners_unrefined = false;     // the refined corners' map did not certify: the ILP's used
   uint32_t fold_rounds = 0, fold_rounds_kept = 0;  // thickening rounds tried and kept
