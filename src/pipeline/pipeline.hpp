@@ -127,7 +127,7 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
 
 // Midpoint (1-to-4) subdivisions of `mesh` while it has fewer than triangles_per_quad
 // triangles per quad of edge h (area / h^2 quads), at most max_levels of them and while under
-// 250,000 faces; features are inherited by both halves.
+// 250,000 faces after the level; features are inherited by both halves.
 RefinedMesh subdivide_coarse(const TriMesh& mesh, const EdgeData<char>& feature, double h,
                              double triangles_per_quad, EdgeData<char>& out_feature,
                              uint32_t& levels, uint32_t max_levels = 64);

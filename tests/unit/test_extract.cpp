@@ -603,6 +603,12 @@ TEST(Pipeline, CoarseComponentsAreSubdividedWithExactProvenance) {
   const RefinedMesh same = subdivide_coarse(comp.mesh, comp.feature, 4 * h, 8, feature, levels);
   EXPECT_EQ(levels, 0u);
   EXPECT_EQ(same.mesh.num_faces(), comp.mesh.num_faces());
+  // A tiny h asks for millions of faces: levels stop while the surface stays under 250,000
+  // (48 x 4^4 = 12,288 ... 48 x 4^6 = 196,608; the next would be 786,432).
+  const RefinedMesh capped =
+      subdivide_coarse(comp.mesh, comp.feature, h / 1000, 8, feature, levels);
+  EXPECT_EQ(levels, 6u);
+  EXPECT_EQ(capped.mesh.num_faces(), 4096 * comp.mesh.num_faces());
 }
 
 TEST(Pipeline, QuadVerticesOnASubdividedSurfaceAreExpressedInTheInput) {
