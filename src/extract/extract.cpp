@@ -105,15 +105,17 @@ UV apply(const Transition& t, const UV& p) {
 
 }  // namespace
 
-double distance_to_quad(const std::vector<Vec3>& positions, const std::array<uint32_t, 4>& q,
-                        const Vec3& x) {
-  const Vec3 c = 0.25 * (positions[q[0]] + positions[q[1]] + positions[q[2]] + positions[q[3]]);
+double distance_to_quad(const std::array<Vec3, 4>& p, const Vec3& x) {
+  const Vec3 c = 0.25 * (p[0] + p[1] + p[2] + p[3]);
   double best = INFINITY;
   for (int k = 0; k < 4; ++k)
-    best = std::min(
-        best,
-        norm(closest_point_on_triangle(x, positions[q[k]], positions[q[(k + 1) % 4]], c) - x));
+    best = std::min(best, norm(closest_point_on_triangle(x, p[k], p[(k + 1) % 4], c) - x));
   return best;
+}
+
+double distance_to_quad(const std::vector<Vec3>& positions, const std::array<uint32_t, 4>& q,
+                        const Vec3& x) {
+  return distance_to_quad({positions[q[0]], positions[q[1]], positions[q[2]], positions[q[3]]}, x);
 }
 
 std::vector<std::array<Vec3, 3>> fan_triangles(const QuadMesh& qm) {

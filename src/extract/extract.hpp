@@ -45,7 +45,9 @@ struct ExtractReport {
   double seconds = 0;
 };
 
-// Distance from x to quad q of `positions`, the quad taken as four triangles about its centroid.
+// Distance from x to the quad with these corners, taken as four triangles about its centroid.
+double distance_to_quad(const std::array<Vec3, 4>& corners, const Vec3& x);
+// The same for quad q of `positions`.
 double distance_to_quad(const std::vector<Vec3>& positions, const std::array<uint32_t, 4>& q,
                         const Vec3& x);
 

@@ -10,6 +10,8 @@
 #include "metrics/aabb_tree.hpp"
 #include "metrics/quality.hpp"
 
+#include <tbb/parallel_for.h>
+
 namespace isoquad {
 
 namespace {
@@ -40,6 +42,15 @@ struct Polyline {
   }
 };
 
+// A trial place of one vertex: the quads as they would be with vertex `v` at `x`, on the
+// surface's face `face`, and every other vertex where it is. Trials of one vertex read the
+// mesh but do not write it, so they are judged in parallel.
+struct Moved {
+  uint32_t v = kInvalid;
+  Vec3 x;
+  uint32_t face = 0;
+};
+
 struct Untangler {
   QuadMesh& qm;
   const TriMesh& base;
@@ -51,11 +62,19 @@ struct Untangler {
   double fidelity = 0;                 // how far a singularity's quads may leave that point
   double short_edge = 0;               // edges below this count against a corner
 
+  const Vec3& at(uint32_t w, const Moved& m) const { return w == m.v ? m.x : qm.positions[w]; }
+  uint32_t face_of(uint32_t w, const Moved& m) const {
+    return w == m.v ? m.face : qm.surface[w].face;
+  }
+
   // Distance from x to the quads around v.
-  double distance_to_fan(uint32_t v, const Vec3& x) const {
+  double distance_to_fan(uint32_t v, const Vec3& x, const Moved& m) const {
     double best = INFINITY;
-    for (const uint32_t f : around[v])
-      best = std::min(best, distance_to_quad(qm.positions, qm.quads[f], x));
+    for (const uint32_t f : around[v]) {
+      const auto& q = qm.quads[f];
+      best =
+          std::min(best, distance_to_quad({at(q[0], m), at(q[1], m), at(q[2], m), at(q[3], m)}, x));
+    }
     return best;
   }
   std::vector<std::vector<uint32_t>> around;  // quads at each vertex
@@ -67,9 +86,9 @@ struct Untangler {
   // the two disagreed near zero; with a walk from it to that point, or with the first of tied
   // triangles, the untangler saw 4 folded quads on the hand at 1,500 quads where the metric saw
   // 5 (a quad corner on a ridge, one side's normal giving +0.56 and the other's -0.62).
-  Vec3 corner_normal(const std::array<uint32_t, 4>& q, int k, const Vec3& e1,
-                     const Vec3& e2) const {
-    return tree.normal_at_closest(qm.positions[q[k]] + 0.05 * (e1 + e2), qm.surface[q[k]].face);
+  Vec3 corner_normal(const std::array<uint32_t, 4>& q, int k, const Vec3& e1, const Vec3& e2,
+                     const Moved& m) const {
+    return tree.normal_at_closest(at(q[k], m) + 0.05 * (e1 + e2), face_of(q[k], m));
   }
 
   // The scaled Jacobians of quad f's four corners, as the moves judge them: a corner on an
@@ -77,7 +96,9 @@ struct Untangler {
   // it, and one on a collapsed edge counts -1. The scaled Jacobian alone does not see edge
   // length, and on fandisk folds were traded for quads with two coincident corners.
   // `known` >= 0 names a corner whose value is passed in `known_value` instead of computed.
-  std::array<double, 4> corner_sj(uint32_t f, int known = -1, double known_value = 0) const {
+  // `m`: a trial place of one vertex.
+  std::array<double, 4> corner_sj(uint32_t f, int known = -1, double known_value = 0,
+                                  const Moved& m = {}) const {
     const auto& q = qm.quads[f];
     std::array<double, 4> sj;
     for (int k = 0; k < 4; ++k) {
@@ -85,14 +106,14 @@ struct Untangler {
         sj[k] = known_value;
         continue;
       }
-      const Vec3& p = qm.positions[q[k]];
-      const Vec3 e1 = qm.positions[q[(k + 1) % 4]] - p, e2 = qm.positions[q[(k + 3) % 4]] - p;
+      const Vec3& p = at(q[k], m);
+      const Vec3 e1 = at(q[(k + 1) % 4], m) - p, e2 = at(q[(k + 3) % 4], m) - p;
       const double l = norm(e1) * norm(e2);
       if (!(l > 0)) {
         sj[k] = -1;
         continue;
       }
-      sj[k] = dot(corner_normal(q, k, e1, e2), cross(e1, e2)) / l;
+      sj[k] = dot(corner_normal(q, k, e1, e2, m), cross(e1, e2)) / l;
       const double shortest = std::min(norm(e1), norm(e2));
       if (sj[k] > 0 && shortest < short_edge) sj[k] *= shortest / short_edge;
     }
@@ -114,10 +135,10 @@ struct Untangler {
   // It stops once the sum reaches `stop`: terms are not negative, so such a trial cannot be
   // better than one at `stop` (the decisions are the same as with the whole sum).
   Local local_quality(uint32_t v, double cap, const std::vector<std::pair<int, double>>& opposite,
-                      double stop = INFINITY) const {
+                      double stop = INFINITY, const Moved& m = {}) const {
     Local l;
     for (std::size_t i = 0; i < around[v].size() && l.shortfall < stop; ++i)
-      for (const double s : corner_sj(around[v][i], opposite[i].first, opposite[i].second))
+      for (const double s : corner_sj(around[v][i], opposite[i].first, opposite[i].second, m))
         if (s < cap) l.shortfall += (cap - s) * (cap - s);
     return l;
   }
@@ -151,42 +172,52 @@ struct Untangler {
                           ? Vec3{1, 0, 0}
                           : (std::fabs(n.y) <= std::fabs(n.z) ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
     const Vec3 t1 = normalized(cross(n, axis)), t2 = cross(n, t1);
-    Local best_q = q0;
-    SurfacePoint best = s0;
-    Vec3 best_p = p0;
     // Steps scale with the local edge length, but never beyond the reach: along a stretched
     // quad they would carry a vertex far from where the map put it.
     len = std::min(len, reach);
-    auto trial = [&](const Vec3& x) {
-      const SurfacePoint s = project_locally(base, s0.face, x);
-      if (squared_norm(position_of(base, s) - origin[v]) > reach * reach) return;
-      if (qm.vertex_meta_vertex[v] != kInvalid || slide[v] ||
-          (v < qm.merged.size() && qm.merged[v])) {
-        // A singularity or crease vertex must keep covering the surface point the map chose:
-        // it may glide along the surface, not cut off a tip (a horn, a finger) it stood on.
-        const Vec3 old = qm.positions[v];
-        qm.positions[v] = position_of(base, s);
-        const bool covers = distance_to_fan(v, origin[v]) <= fidelity;
-        qm.positions[v] = old;
-        if (!covers) return;
-      }
-      qm.positions[v] = position_of(base, s);
-      qm.surface[v] = s;
-      const Local q = local_quality(v, cap, opposite, best_q.shortfall - 1e-12);
-      if (better(q, best_q)) best_q = q, best = s, best_p = qm.positions[v];
-    };
+    std::vector<Vec3> points;
     if (const Polyline* line = slide[v]) {
       const double s = line->parameter_of(p0);
       for (const double step : {0.4, 0.2, 0.1, 0.05})
-        for (const double sign : {-1.0, 1.0}) trial(line->point_at(s + sign * step * len));
+        for (const double sign : {-1.0, 1.0})
+          points.push_back(line->point_at(s + sign * step * len));
     } else {
-      trial(avg);
+      points.push_back(avg);
       for (const double step : {0.8, 0.4, 0.2, 0.1, 0.05})
         for (int k = 0; k < 8; ++k) {
           const double a = k * std::numbers::pi / 4;
-          trial(p0 + (step * len) * (std::cos(a) * t1 + std::sin(a) * t2));
+          points.push_back(p0 + (step * len) * (std::cos(a) * t1 + std::sin(a) * t2));
         }
     }
+    // A singularity or crease vertex must keep covering the surface point the map chose: it may
+    // glide along the surface, not cut off a tip (a horn, a finger) it stood on.
+    const bool guarded =
+        qm.vertex_meta_vertex[v] != kInvalid || slide[v] || (v < qm.merged.size() && qm.merged[v]);
+    struct Trial {
+      bool ok = false;
+      SurfacePoint s;
+      Vec3 x;
+      Local q;
+    };
+    std::vector<Trial> trials(points.size());
+    // Each trial's shortfall is summed until it passes q0's; taken in order below, the first
+    // best trial wins, as when they were tried one by one (a trial cut short there was cut
+    // short because it could not win; here it is cut short later or not at all, with the same
+    // partial sums).
+    const double stop = q0.shortfall - 1e-12;
+    tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
+      const SurfacePoint s = project_locally(base, s0.face, points[i]);
+      const Vec3 x = position_of(base, s);
+      if (squared_norm(x - origin[v]) > reach * reach) return;
+      const Moved m{v, x, s.face};
+      if (guarded && !(distance_to_fan(v, origin[v], m) <= fidelity)) return;
+      trials[i] = {true, s, x, local_quality(v, cap, opposite, stop, m)};
+    });
+    Local best_q = q0;
+    SurfacePoint best = s0;
+    Vec3 best_p = p0;
+    for (const Trial& t : trials)
+      if (t.ok && better(t.q, best_q)) best_q = t.q, best = t.s, best_p = t.x;
     qm.positions[v] = best_p;
     qm.surface[v] = best;
     return better(best_q, q0);
@@ -264,8 +295,8 @@ void untangle_sweeps(QuadMesh& qm, const TriMesh& base, const AabbTree& tree, co
   auto measure = [&](uint32_t& folded, double& worst) {
     folded = 0;
     worst = 1;
+    tbb::parallel_for(std::size_t(0), sj.size(), [&](std::size_t f) { sj[f] = u.quad_sj(f); });
     for (uint32_t f = 0; f < sj.size(); ++f) {
-      sj[f] = u.quad_sj(f);
       folded += sj[f] <= folded_at;
       worst = std::min(worst, sj[f]);
     }
@@ -304,11 +335,16 @@ void untangle_sweeps(QuadMesh& qm, const TriMesh& base, const AabbTree& tree, co
       }
     }
     report.moves += moved;
+    std::vector<uint32_t> touched;
     for (const uint32_t v : active)
       for (const uint32_t f : u.around[v])
         if (std::any_of(qm.quads[f].begin(), qm.quads[f].end(),
                         [&](uint32_t w) { return moved_at[w] > round_start; }))
-          sj[f] = u.quad_sj(f);
+          touched.push_back(f);
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    tbb::parallel_for(std::size_t(0), touched.size(),
+                      [&](std::size_t i) { sj[touched[i]] = u.quad_sj(touched[i]); });
     round_start = clock;
     if (moved == 0) break;
   }
