@@ -10,6 +10,8 @@
 #include "core/union_find.hpp"
 #include "metrics/aabb_tree.hpp"
 
+#include <tbb/parallel_for.h>
+
 namespace isoquad {
 
 int64_t Topology::genus() const {
@@ -89,25 +91,32 @@ void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTr
   std::vector<double> cum(from.size() + 1, 0.0);
   for (std::size_t i = 0; i < from.size(); ++i)
     cum[i + 1] = cum[i] + 0.5 * norm(cross(from[i][1] - from[i][0], from[i][2] - from[i][0]));
-  std::mt19937_64 rng(seed);
-  auto uniform = [&] { return double(rng() >> 11) * 0x1.0p-53; };
-  auto visit = [&](const Vec3& p) {
-    const double d = to.closest(p).distance;
-    if (d > max_d) max_d = d, max_at = p;
-    sum_d += d;
-    ++count;
-  };
+  // The points first (the generator in order), then their distances in parallel, then the
+  // maximum and the sum in point order: the same figures for any thread count.
+  std::vector<Vec3> points;
+  points.reserve(3 * from.size() + samples);
   for (const auto& t : from)
-    for (const Vec3& p : t) visit(p);
-  if (!(cum.back() > 0)) return;
-  for (uint32_t s = 0; s < samples; ++s) {
-    const double r = uniform() * cum.back();
-    const std::size_t i = std::min<std::size_t>(
-        std::upper_bound(cum.begin(), cum.end(), r) - cum.begin() - 1, from.size() - 1);
-    double a = uniform(), b = uniform();
-    if (a + b > 1) a = 1 - a, b = 1 - b;
-    const auto& t = from[i];
-    visit(t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]));
+    for (const Vec3& p : t) points.push_back(p);
+  if (cum.back() > 0) {
+    std::mt19937_64 rng(seed);
+    auto uniform = [&] { return double(rng() >> 11) * 0x1.0p-53; };
+    for (uint32_t s = 0; s < samples; ++s) {
+      const double r = uniform() * cum.back();
+      const std::size_t i = std::min<std::size_t>(
+          std::upper_bound(cum.begin(), cum.end(), r) - cum.begin() - 1, from.size() - 1);
+      double a = uniform(), b = uniform();
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      const auto& t = from[i];
+      points.push_back(t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]));
+    }
+  }
+  std::vector<double> d(points.size());
+  tbb::parallel_for(std::size_t(0), points.size(),
+                    [&](std::size_t i) { d[i] = to.closest(points[i]).distance; });
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (d[i] > max_d) max_d = d[i], max_at = points[i];
+    sum_d += d[i];
+    ++count;
   }
 }
 
@@ -245,8 +254,12 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
   double sj_sum = 0, angle_sum = 0;
   uint32_t below_half = 0, corners_seen = 0;
   q.sj_min = q.sj_surface_min = INFINITY;
+  std::vector<FaceShape> shapes(m.num_faces());
+  tbb::parallel_for(std::size_t(0), m.num_faces(), [&](std::size_t f) {
+    shapes[f] = face_shape(m, f, ref_tree ? &*ref_tree : nullptr);
+  });
   for (std::size_t f = 0; f < m.num_faces(); ++f) {
-    const FaceShape s = face_shape(m, f, ref_tree ? &*ref_tree : nullptr);
+    const FaceShape& s = shapes[f];
     angle_sum += s.angle_deviation_sum;
     q.angle_deviation_max = std::max(q.angle_deviation_max, s.angle_deviation_max);
     corners_seen += uint32_t(m.face(f).size());
