@@ -5,12 +5,12 @@
 #include <cmath>
 #include <numbers>
 
+#include <tbb/parallel_for.h>
+
 #include "extract/collapse.hpp"
 #include "extract/surface_walk.hpp"
 #include "metrics/aabb_tree.hpp"
 #include "metrics/quality.hpp"
-
-#include <tbb/parallel_for.h>
 
 namespace isoquad {
 

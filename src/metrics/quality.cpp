@@ -6,11 +6,11 @@
 #include <random>
 #include <unordered_map>
 
+#include <tbb/parallel_for.h>
+
 #include "core/element_data.hpp"
 #include "core/union_find.hpp"
 #include "metrics/aabb_tree.hpp"
-
-#include <tbb/parallel_for.h>
 
 namespace isoquad {
 

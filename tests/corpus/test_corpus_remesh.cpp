@@ -16,7 +16,10 @@
 #include "io/report_json.hpp"
 #include "metrics/aabb_tree.hpp"
 #include "metrics/quality.hpp"
+#include "pipeline/pipeline.hpp"
 #include "pipeline/remesh.hpp"
+#include "pipeline/sizing.hpp"
+#include "prep/prepare.hpp"
 #include "report/report.hpp"
 #include "report_checks.hpp"
 
@@ -246,4 +249,21 @@ TEST(CorpusTipSplit, CutOffArmEndBecomesACorner) {
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
   EXPECT_LT(q.hausdorff, 0.7 * before);
   EXPECT_LT(q.hausdorff, 0.01);
+}
+
+// Subdivision stops before a level would take the surface past 250,000 faces: rotor (1,200
+// faces) at 10,000 quads wants 80,000 triangles and gets 3 levels, 76,800 (a fourth level made
+// 307,200, and the run took minutes instead of seconds).
+TEST(CorpusSubdivision, StopsBeforeTheFaceCap) {
+  ISOQUAD_CORPUS_MESH(path, "rotor.off");
+  const PreparedMesh prep = prepare(read_mesh(path).mesh);
+  ASSERT_EQ(prep.components.size(), 1u);
+  const PreparedComponent& comp = prep.components[0];
+  EdgeData<char> feature;
+  uint32_t levels = 0;
+  const double h = edge_length_for_quads(comp.mesh, 10000);
+  const RefinedMesh r = subdivide_coarse(comp.mesh, comp.feature, h, 8, feature, levels);
+  EXPECT_EQ(levels, 3u);
+  EXPECT_EQ(r.mesh.num_faces(), 64 * comp.mesh.num_faces());
+  EXPECT_LE(r.mesh.num_faces(), 250000u);
 }
