@@ -117,11 +117,16 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
       say(fmt::format("component {}: sizes tried for the {:.2f}% tolerance: {}", c,
                       100 * o.tolerance, tried));
     }
-    if (!r.tips.empty())
-      say(fmt::format("component {}: {} tip{} split: {:.2f}% {} folded -> {:.2f}% {} folded ({})",
-                      c, r.tips.size(), r.tips.size() == 1 ? "" : "s", 100 * r.before_tips.distance,
-                      r.before_tips.folded, 100 * r.after_tips.distance, r.after_tips.folded,
-                      r.tips_kept ? "kept" : "undone"));
+    if (!r.tip_rounds.empty()) {
+      std::string tried;
+      for (std::size_t k = 0; k < r.tip_rounds.size(); ++k) {
+        const auto& [tips, s] = r.tip_rounds[k];
+        tried += fmt::format("{}{} tip{} {:.2f}% {} folded{}", k ? " -> " : "", tips,
+                             tips == 1 ? "" : "s", 100 * s.distance, s.folded,
+                             k == r.tip_round_kept ? " (kept)" : "");
+      }
+      say(fmt::format("component {}: tips split: {}", c, tried));
+    }
     std::map<std::string, int> valence;
     // How far the integer lengths are from the geodesic ones: x_e / c_e per meta-edge.
     const std::vector<double> ratio = r.layout.length_ratios();
@@ -134,11 +139,10 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     for (const SizeRound& s : r.size_rounds)
       sizes.push_back({{"quads", s.quads}, {"hausdorff", s.distance}, {"folded", s.folded}});
     // Distances over the mesh's bounding-box diagonal.
-    const nlohmann::json tips = {
-        {"tips", r.tips.size()},
-        {"kept", r.tips_kept},
-        {"before", {{"hausdorff", r.before_tips.distance}, {"folded", r.before_tips.folded}}},
-        {"after", {{"hausdorff", r.after_tips.distance}, {"folded", r.after_tips.folded}}}};
+    nlohmann::json tip_runs = nlohmann::json::array();
+    for (const auto& [tips, s] : r.tip_rounds)
+      tip_runs.push_back({{"tips", tips}, {"hausdorff", s.distance}, {"folded", s.folded}});
+    const nlohmann::json tips = {{"tried", tip_runs}, {"kept", r.tip_round_kept}};
     comps.push_back({{"component", prep.components[c].report_index},
                      {"tip_split", tips},
                      {"size_rounds", {{"tried", sizes}, {"kept", r.size_round_kept}}},

@@ -43,20 +43,35 @@ double shortest_edge(const PolyMesh& quads) {
   return shortest / box.diagonal();
 }
 
-// The run with tips split is kept only when it is closer with no more folds, and the kept run's
-// figures are the output's (one component: its distance is sampled on the prepared surface, so
-// it matches `quality`'s, sampled on the input, to the sampling's noise: a few percent).
+// Each run with tips split is kept only when it is closer than the run kept before it with no
+// more folds, the rounds stop at the first that is not kept, each has more tips than the one
+// before, and the kept run's figures are the output's (one component: its distance is sampled
+// on the prepared surface, so it matches `quality`'s, sampled on the input, to the sampling's
+// noise: a few percent).
 void expect_tip_split_kept_only_if_better(const RemeshRun& run, const QualityReport& q) {
   for (const ComponentRun& r : run.runs) {
-    if (r.tips.empty()) continue;
-    const SizeRound& kept = r.tips_kept ? r.after_tips : r.before_tips;
-    if (r.tips_kept) {
-      EXPECT_LT(r.after_tips.distance, r.before_tips.distance);
-      EXPECT_LE(r.after_tips.folded, r.before_tips.folded);
-    } else {
-      EXPECT_TRUE(r.after_tips.distance >= r.before_tips.distance ||
-                  r.after_tips.folded > r.before_tips.folded);
+    if (r.tip_rounds.empty()) {
+      EXPECT_TRUE(r.tips.empty());
+      continue;
     }
+    const auto& rounds = r.tip_rounds;
+    ASSERT_GE(rounds.size(), 2u);
+    ASSERT_LE(rounds.size(), 1 + kTipRounds);
+    ASSERT_LT(r.tip_round_kept, rounds.size());
+    EXPECT_EQ(rounds[0].tips, 0u);
+    for (std::size_t k = 1; k < rounds.size(); ++k) {
+      EXPECT_GT(rounds[k].tips, rounds[k - 1].tips);
+      const SizeRound &now = rounds[k].result, &before = rounds[k - 1].result;
+      if (k <= r.tip_round_kept) {
+        EXPECT_LT(now.distance, before.distance);
+        EXPECT_LE(now.folded, before.folded);
+      } else {  // the one round after the kept one, undone
+        EXPECT_EQ(k, rounds.size() - 1);
+        EXPECT_TRUE(now.distance >= before.distance || now.folded > before.folded);
+      }
+    }
+    const SizeRound& kept = rounds[r.tip_round_kept].result;
+    EXPECT_EQ(r.tips.size(), rounds[r.tip_round_kept].tips);
     EXPECT_EQ(kept.quads, r.quads.quads.size());
     EXPECT_EQ(kept.folded, r.untangle_report.nonpositive);
     if (run.runs.size() == 1) {
@@ -239,10 +254,11 @@ TEST(CorpusTipSplit, CutOffArmEndBecomesACorner) {
   const RemeshRun run = remesh_run(input.mesh, RemeshOptions{}, input.unshared_vertices);
   const ComponentRun& r = run.runs.at(0);
   ASSERT_FALSE(r.tips.empty());
-  EXPECT_TRUE(r.tips_kept);
+  ASSERT_GE(r.tip_round_kept, 1u);
   EXPECT_GE(r.seg.tip_split.split + r.seg.tip_split.boundary.size(), 1u);
   for (const uint32_t t : r.tips) EXPECT_NE(r.seg.meta.vertex_meta_vertex[t], kInvalid);
-  EXPECT_NEAR(r.before_tips.distance, before, 0.1 * before);  // the first run is the run without
+  // the first run is the run without
+  EXPECT_NEAR(r.tip_rounds.at(0).result.distance, before, 0.1 * before);
   const QualityReport q = measure_quality(run.result.quads, &input.mesh);
   EXPECT_TRUE(q.pure_quad);
   EXPECT_TRUE(q.same_topology);

@@ -459,17 +459,22 @@ TEST(Cli, TipSplitIsReportedAndCanBeTurnedOff) {
     const auto j = nlohmann::json::parse(a.out);
     EXPECT_EQ(j["options"]["tip_split"].get<bool>(), split);
     const auto& tips = j["components"][0]["tip_split"];
+    const auto& tried = tips["tried"];
     if (split) {
-      EXPECT_GT(tips["tips"].get<int>(), 0) << tips;
-      EXPECT_TRUE(tips["kept"].get<bool>());
-      EXPECT_LT(tips["after"]["hausdorff"].get<double>(),
-                tips["before"]["hausdorff"].get<double>());
-      EXPECT_NEAR(j["quality"]["hausdorff"].get<double>(), tips["after"]["hausdorff"].get<double>(),
-                  0.1 * tips["after"]["hausdorff"].get<double>());
-      EXPECT_NE(a.err.find("split:"), std::string::npos) << a.err;
+      // The run without tips, then at least one with tips; the kept one is the output.
+      ASSERT_GE(tried.size(), 2u) << tips;
+      EXPECT_EQ(tried[0]["tips"].get<int>(), 0) << tips;
+      EXPECT_GT(tried[1]["tips"].get<int>(), 0) << tips;
+      const std::size_t kept = tips["kept"].get<std::size_t>();
+      ASSERT_GE(kept, 1u) << tips;
+      ASSERT_LT(kept, tried.size()) << tips;
+      const double distance = tried[kept]["hausdorff"].get<double>();
+      EXPECT_LT(distance, tried[0]["hausdorff"].get<double>());
+      EXPECT_NEAR(j["quality"]["hausdorff"].get<double>(), distance, 0.1 * distance);
+      EXPECT_NE(a.err.find("tips split:"), std::string::npos) << a.err;
       EXPECT_NE(a.err.find("(kept)"), std::string::npos) << a.err;
     } else {
-      EXPECT_EQ(tips["tips"].get<int>(), 0) << tips;
+      EXPECT_TRUE(tried.empty()) << tips;
       EXPECT_EQ(a.err.find("split:"), std::string::npos) << a.err;
     }
     EXPECT_TRUE(j["quality"]["pure_quad"].get<bool>());
