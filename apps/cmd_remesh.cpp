@@ -71,7 +71,7 @@ Runner add_remesh(CLI::App& app) {
                 "where they cut off a tip or bridge a valley become patch corners, the mesh is "
                 "remeshed from the same patches, and the closer result with no more folded "
                 "quads is kept; from a kept result, again with its tips added, up to three "
-                "runs with tips)");
+                "runs with tips, one new tip at a time after a run not kept)");
   sub->add_option("--fold-rounds", a->fold_rounds,
                   "Where quads still fold after untangling, give their patches one more quad "
                   "across and solve the lengths, map and quads again, at most this often (a round "

@@ -63,7 +63,8 @@ struct PipelineOptions {
   // they bridge) becomes a meta-vertex (seg/tip_split.hpp), hence a lattice point, and the
   // component runs again from the same VSA partition; the run with the smaller two-sided
   // distance and no more folded quads is kept. A kept run is searched for tips again, with the
-  // earlier ones kept, at most kTipRounds runs with tips and while each is kept.
+  // earlier ones kept, at most kTipRounds runs with tips; after a run not kept, tips are added
+  // one at a time, and the next run not kept ends the rounds.
   bool tip_split = true;
   Stage last = Stage::extract;
 };
