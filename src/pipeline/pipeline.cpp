@@ -415,10 +415,11 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
     // The new tips after the earlier ones. Not kept apart from them: the armadillo's second
     // round at 1,500 quads (2.89% -> 1.80%) took a tip less than h from one of the first.
     std::vector<uint32_t> tips = run.tips;
-    for (const uint32_t t : found)
-      if (std::find(tips.begin(), tips.end(), t) == tips.end() &&
-          (!one_at_a_time || tips.size() == run.tips.size()))
-        tips.push_back(t);
+    for (const uint32_t t : found) {
+      if (std::find(tips.begin(), tips.end(), t) != tips.end()) continue;
+      tips.push_back(t);
+      if (one_at_a_time) break;  // the farthest new one only
+    }
     if (tips.size() == run.tips.size()) break;  // all made corners already
     if (rounds.empty()) rounds.push_back({0, measure_run(run, surface, diagonal)});
     ComponentRun again;
