@@ -47,7 +47,8 @@ QueueKey queue_key(double error, uint32_t face, uint32_t proxy) {
   return QueueKey(std::bit_cast<uint64_t>(error)) << 64 | uint64_t(face) << 32 | proxy;
 }
 
-// A binary min-heap of keys: the flood's hot loop, with branch-light integer comparisons.
+// A 4-ary min-heap of keys: the flood's hot loop, with branch-light integer comparisons. Half as
+// deep as a binary heap, its four children next to each other; the pop order is the same.
 class KeyHeap {
  public:
   void clear() { a_.clear(); }
@@ -56,7 +57,7 @@ class KeyHeap {
     std::size_t i = a_.size();
     a_.push_back(k);
     while (i > 0) {
-      const std::size_t p = (i - 1) / 2;
+      const std::size_t p = (i - 1) / 4;
       if (!(k < a_[p])) break;
       a_[i] = a_[p];
       i = p;
@@ -70,9 +71,12 @@ class KeyHeap {
     if (n == 0) return top;
     std::size_t i = 0;
     while (true) {
-      std::size_t c = 2 * i + 1;
-      if (c >= n) break;
-      if (c + 1 < n && a_[c + 1] < a_[c]) ++c;
+      const std::size_t first = 4 * i + 1;
+      if (first >= n) break;
+      std::size_t c = first;
+      const std::size_t end = std::min(first + 4, n);
+      for (std::size_t k = first + 1; k < end; ++k)
+        if (a_[k] < a_[c]) c = k;
       if (!(a_[c] < last)) break;
       a_[i] = a_[c];
       i = c;
@@ -143,6 +147,7 @@ class Vsa {
   double area_ = 0;
   std::vector<uint32_t> label_;
   std::vector<double> best_queued_;
+  std::vector<uint32_t> best_proxy_;
   // For flood, in its own face numbering (built on the first flood): order_ lists the faces,
   // rank_ is its inverse; per face its normal, centroid and area together, and its crossable
   // neighbours (kInvalid where the edge is a barrier or the boundary).
@@ -212,6 +217,8 @@ void Vsa::flood() {
   // Only an entry that beats the best one already queued for a face can decide its label.
   std::vector<double>& best = best_queued_;
   best.assign(nf, INFINITY);
+  std::vector<uint32_t>& best_proxy = best_proxy_;
+  best_proxy.assign(nf, kInvalid);
   std::vector<uint32_t>& label = flood_label_;
   label.assign(nf, kInvalid);
   const double w = weight();
@@ -225,8 +232,11 @@ void Vsa::flood() {
       const PackedFace& d = packed_[g];
       const double e = d.area * (squared_norm(d.normal - proxy.normal) +
                                  w * squared_norm(d.centroid - proxy.centroid));
-      if (e <= best[g]) {
+      // The error depends on the face and the proxy only: the same pair reached again from
+      // another neighbour would be a duplicate key, so only a strictly better key is queued.
+      if (e < best[g] || (e == best[g] && p < best_proxy[g])) {
         best[g] = e;
+        best_proxy[g] = p;
         heap.push(queue_key(e, g, p));
       }
     }
