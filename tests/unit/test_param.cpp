@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <thread>
 
 #include "core/predicates.hpp"
 #include "core/refined_mesh.hpp"
@@ -299,6 +300,27 @@ TEST(Ordering, NestedDissectionRanksArePermutationsExtendedAfterNeighbours) {
         EXPECT_GT(extended[v], extended[w]);
       }
     });
+}
+
+TEST(Param, SupernodalFactorizationsAreCertifiedAndRepeatableSideBySide) {
+  // A torus large enough (11,200 vertices) for the supernodal factorization, whose dense blocks
+  // go to BLAS. Two maps of it at once, on two threads, as several components or pipelines
+  // would (OpenBLAS's sequential build is not safe to call so; param/blas_runtime.hpp), and the
+  // same map again alone: certified, and equal to the last bit.
+  const Mapped r = map_mesh(test::torus(160, 70), 0, 600, relax(RelaxMode::adaptive));
+  ASSERT_GE(r.report.unknowns, 10000u);
+  test::expect_certified(r.mesh(), r.seg.labels, r.seg.meta, r.layout, r.param);
+  std::array<Param, 2> twice;
+  {
+    std::vector<std::jthread> threads;
+    for (Param& p : twice)
+      threads.emplace_back([&] {
+        ParamReport report;
+        p = parametrize(r.mesh(), r.seg.labels, r.seg.meta, r.layout, relax(RelaxMode::adaptive),
+                        report);
+      });
+  }
+  for (const Param& p : twice) EXPECT_TRUE(p.map.uv.values() == r.param.map.uv.values());
 }
 
 TEST(Param, GivenEliminationOrderGivesTheSameMap) {
