@@ -31,7 +31,8 @@ void to_json(nlohmann::json& j, const ComponentReport& r) {
        {"area", r.area},
        {"feature_edges", r.feature_edges},
        {"min_angle_deg", r.min_angle_deg},
-       {"zero_area_faces", r.zero_area_faces}};
+       {"zero_area_faces", r.zero_area_faces},
+       {"flat_flips", r.flat_flips}};
 }
 
 void to_json(nlohmann::json& j, const InputReport& r) {

@@ -32,17 +32,18 @@ void note(InputReport& r, Severity severity, const char* code, uint32_t count,
 }
 
 // Angle and area statistics of a kept component, in its normalized coordinates.
-void shape_statistics(const TriMesh& m, double scale, ComponentReport& r) {
+void shape_statistics(const std::vector<Vec3>& positions, const std::vector<Tri>& tris,
+                      double scale, ComponentReport& r) {
   double min_angle = std::numbers::pi;
   double area = 0;
-  for (uint32_t f = 0; f < m.num_faces(); ++f) {
-    const double a = m.face_area(f);
+  for (const Tri& t : tris) {
+    const Vec3 &p0 = positions[t[0]], &p1 = positions[t[1]], &p2 = positions[t[2]];
+    const double a = 0.5 * norm(cross(p1 - p0, p2 - p0));
     area += a;
     if (a < 1e-14) ++r.zero_area_faces;  // the mesh fits a unit-diagonal box
-    const Tri& t = m.face(f);
     for (int i = 0; i < 3; ++i) {
-      const Vec3 u = m.position(t[(i + 1) % 3]) - m.position(t[i]);
-      const Vec3 v = m.position(t[(i + 2) % 3]) - m.position(t[i]);
+      const Vec3 u = positions[t[(i + 1) % 3]] - positions[t[i]];
+      const Vec3 v = positions[t[(i + 2) % 3]] - positions[t[i]];
       min_angle = std::min(min_angle, std::atan2(norm(cross(u, v)), dot(u, v)));
     }
   }
@@ -144,6 +145,10 @@ PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
       tris.push_back(tri);
       fin.push_back(s.tri_input[t]);
     }
+    shape_statistics(positions, tris, out.normalization.scale, r);
+    // Flat within 1e-7 of the unit diagonal: planar faces of CAD exports, written in single
+    // precision, are flat to about that.
+    if (options.flip_flat) r.flat_flips = prep::flip_flat_edges(positions, tris, 1e-7);
     PreparedComponent pc;
     pc.mesh = TriMesh(std::move(positions), std::move(tris));
     pc.input_vertex = VertexData<uint32_t>(std::move(vin));
@@ -151,9 +156,12 @@ PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
     pc.feature = prep::mark_features(pc.mesh, options.feature_angle_deg);
     pc.report_index = uint32_t(c);
     r.feature_edges = uint32_t(std::count(pc.feature.begin(), pc.feature.end(), 1));
-    shape_statistics(pc.mesh, out.normalization.scale, r);
     note(report, Severity::warning, "W110", r.zero_area_faces,
          fmt::format("component {} has {} faces of (near-)zero area", c, r.zero_area_faces));
+    note(report, Severity::repaired, "W111", r.flat_flips,
+         fmt::format("component {}: flipped {} edges inside flat regions to Delaunay (needle "
+                     "triangles; the surface is unchanged)",
+                     c, r.flat_flips));
     out.components.push_back(std::move(pc));
   }
   return out;

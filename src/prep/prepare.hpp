@@ -21,6 +21,9 @@ struct PrepOptions {
   uint32_t min_component_faces = 10;  // smaller components are dropped with a warning
   double feature_angle_deg = 60.0;    // dihedral angle above which an edge is a feature; <= 0: none
   bool diagnose = false;              // record would-be errors in the report instead of throwing
+  // Delaunay flips inside flat regions (prep::flip_flat_edges), for quads that do not follow
+  // the input's needle triangles.
+  bool flip_flat = true;
 };
 
 // Maps input coordinates to a box centred at the origin with unit diagonal, and back.
@@ -49,8 +52,9 @@ struct ComponentReport {
   bool kept = true;  // false: dropped (too small) or rejected (non-orientable)
   double area = 0;   // in input units
   uint32_t feature_edges = 0;
-  double min_angle_deg = 0;
+  double min_angle_deg = 0;  // of the input's triangles, before the flips below
   uint32_t zero_area_faces = 0;
+  uint32_t flat_flips = 0;  // edges flipped inside flat regions (PrepOptions::flip_flat)
 };
 
 struct InputReport {
@@ -71,7 +75,8 @@ struct InputReport {
 struct PreparedComponent {
   TriMesh mesh;                       // normalized coordinates; outward for closed components
   VertexData<uint32_t> input_vertex;  // the input vertex each vertex came from
-  FaceData<uint32_t> input_face;      // the input face (polygon) each triangle came from
+  FaceData<uint32_t> input_face;      // the input face (polygon) each triangle came from, or
+                                      // one it overlaps, after flat flips
   EdgeData<char> feature;             // 1 where the dihedral angle exceeds the feature angle
   uint32_t report_index = 0;          // index into InputReport::components
 };

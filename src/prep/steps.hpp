@@ -40,6 +40,16 @@ std::vector<SoupComponent> orient_components(Soup& soup, InputReport& report);
 // Counts V, E, F and boundary loops of a component straight from its triangles.
 ComponentReport combinatorial_topology(const Soup& soup, const std::vector<uint32_t>& tris);
 
+// Delaunay flips of needles inside flat regions: an edge between two triangles, one of them
+// with an angle under 10 degrees, is replaced by the other diagonal of their quad when that is
+// Delaunay (the angles opposite the edge sum to more than pi), the quad is convex and its two
+// diagonals pass within `tolerance` of each other (the most the flip can move the surface).
+// CAD exports triangulate each planar face as fans of needles across it, and segments,
+// patches and quads then follow the needles. Returns the number of flips; the vertices stay,
+// so the surface does too (within `tolerance`).
+uint32_t flip_flat_edges(const std::vector<Vec3>& positions, std::vector<Tri>& tris,
+                         double tolerance);
+
 EdgeData<char> mark_features(const TriMesh& mesh, double feature_angle_deg);
 
 }  // namespace isoquad::prep

@@ -1,8 +1,14 @@
 #include <gtest/gtest.h>
 #include <cmath>
 
+#include <numbers>
+
+#include "corpus.hpp"
+#include "io/read_mesh.hpp"
 #include "isoquad/error.hpp"
+#include "metrics/aabb_tree.hpp"
 #include "prep/prepare.hpp"
+#include "prep/steps.hpp"
 #include "shapes.hpp"
 
 using namespace isoquad;
@@ -37,7 +43,129 @@ PolyMesh triangulated_cube() {
   return t;
 }
 
+// An 8 x 1 rectangle with 17 vertices on each long side, triangulated the way CAD exports
+// triangulate planar faces: two fans of needles, from the top-left and the bottom-right corner.
+// Tilted out of every coordinate plane.
+PolyMesh needle_plate() {
+  PolyMesh m;
+  const int n = 16;
+  auto place = [](double x, double y) {
+    return Vec3{0.8 * x, 0.36 * x + 0.8 * y, 0.48 * x - 0.6 * y};  // orthonormal columns
+  };
+  for (int i = 0; i <= n; ++i) m.positions.push_back(place(8.0 * i / n, 0));  // bottom: i
+  for (int i = 0; i <= n; ++i) m.positions.push_back(place(8.0 * i / n, 1));  // top: n + 1 + i
+  const uint32_t top = n + 1;
+  for (uint32_t i = 0; i < n; ++i) m.add_face({top, i, i + 1});
+  for (uint32_t i = 0; i < n; ++i) m.add_face({n, top + i + 1, top + i});
+  return m;
+}
+
+double smallest_angle_deg(const TriMesh& m) {
+  double least = 180;
+  for (const Tri& t : m.faces())
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 u = m.position(t[(i + 1) % 3]) - m.position(t[i]);
+      const Vec3 v = m.position(t[(i + 2) % 3]) - m.position(t[i]);
+      least = std::min(least, std::atan2(norm(cross(u, v)), dot(u, v)) * 180 / std::numbers::pi);
+    }
+  return least;
+}
+
+// Every corner angle, ascending, rounded to 1e-9 (a triangle the flips kept may list its corners
+// from another one and differ in the last bits).
+std::vector<double> sorted_angles(const TriMesh& m) {
+  std::vector<double> a;
+  for (const Tri& t : m.faces())
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 u = m.position(t[(i + 1) % 3]) - m.position(t[i]);
+      const Vec3 v = m.position(t[(i + 2) % 3]) - m.position(t[i]);
+      a.push_back(std::round(1e9 * std::atan2(norm(cross(u, v)), dot(u, v))) * 1e-9);
+    }
+  std::sort(a.begin(), a.end());
+  return a;
+}
+
 }  // namespace
+
+TEST(Prepare, NeedleFansOfAFlatFaceAreFlippedAway) {
+  const PolyMesh plate = needle_plate();
+  const PreparedMesh p = prepare(plate);
+  const ComponentReport& r = p.report.components[0];
+  const TriMesh& m = p.components[0].mesh;
+  EXPECT_LT(r.min_angle_deg, 2.0);  // the input's needles
+  EXPECT_GT(r.flat_flips, 0u);
+  EXPECT_GT(smallest_angle_deg(m), 10.0);  // no needle left
+  std::vector<Tri> again = m.faces();
+  EXPECT_EQ(prep::flip_flat_edges(m.positions(), again, 1e-7), 0u);
+  // The same vertices, faces and surface: the flips only change which vertices are joined.
+  EXPECT_EQ(m.num_vertices(), plate.positions.size());
+  EXPECT_EQ(m.num_faces(), plate.num_faces());
+  EXPECT_EQ(m.euler_characteristic(), 1);
+  EXPECT_NEAR(r.area, 8.0, 1e-12);
+  for (uint32_t f = 0; f < m.num_faces(); ++f)
+    EXPECT_NEAR(dot(m.face_normal(f), Vec3{-0.6, 0.48, 0.64}), 1.0, 1e-12);  // none turned over
+  // The note says what was done.
+  const auto note = std::find_if(p.report.issues.begin(), p.report.issues.end(),
+                                 [](const InputIssue& i) { return i.code == "W111"; });
+  ASSERT_NE(note, p.report.issues.end());
+  EXPECT_EQ(note->count, r.flat_flips);
+
+  const PreparedMesh kept = prepare(plate, {.flip_flat = false});
+  EXPECT_EQ(kept.report.components[0].flat_flips, 0u);
+  EXPECT_LT(smallest_angle_deg(kept.components[0].mesh), 2.0);
+}
+
+TEST(Prepare, QuadsBentBeyondTheToleranceAreNotFlipped) {
+  // Two triangles across the long diagonal of a thin rhombus: not Delaunay (the angles opposite
+  // the diagonal sum to nearly 2 pi). Flat, they flip; with the middle vertices lifted, no.
+  for (const double lift : {0.0, 1e-3}) {
+    PolyMesh m;
+    m.positions = {{0, 0, 0}, {4, 0, 0}, {2, 0.2, lift}, {2, -0.2, lift}};
+    m.add_face({0, 1, 2});
+    m.add_face({1, 0, 3});
+    const PreparedMesh p = prepare(m, {.min_component_faces = 1});
+    EXPECT_EQ(p.report.components[0].flat_flips, lift == 0 ? 1u : 0u) << "lift " << lift;
+    EXPECT_NEAR(p.report.components[0].area, 0.8, 1e-4);
+  }
+}
+
+// rotor (a CAD mesh with needle fans on its flat faces): the flips leave no edge that would flip
+// again, raise the sorted angles and keep the input's surface (every triangle's centroid on it).
+// fandisk, also CAD but without needles, keeps its triangulation.
+TEST(Prepare, FlatFlipsOnCadMeshesKeepTheSurface) {
+  const auto rotor = read_mesh(test::data_dir() / "rotor.off");
+  const PreparedMesh p = prepare(rotor.mesh);
+  const PreparedComponent& c = p.components[0];
+  EXPECT_GT(p.report.components[0].flat_flips, 100u);
+  std::vector<Tri> tris = c.mesh.faces();
+  EXPECT_EQ(prep::flip_flat_edges(c.mesh.positions(), tris, 1e-7), 0u);
+  const PreparedMesh unflipped = prepare(rotor.mesh, {.flip_flat = false});
+  const TriMesh& u = unflipped.components[0].mesh;
+  std::vector<std::array<Vec3, 3>> faces;
+  for (const Tri& t : u.faces())
+    faces.push_back({u.position(t[0]), u.position(t[1]), u.position(t[2])});
+  const AabbTree tree(std::move(faces));
+  double farthest = 0;
+  for (const Tri& t : c.mesh.faces()) {
+    const Vec3 centroid =
+        (c.mesh.position(t[0]) + c.mesh.position(t[1]) + c.mesh.position(t[2])) / 3.0;
+    farthest = std::max(farthest, tree.closest(centroid).distance);
+  }
+  EXPECT_LT(farthest, 1e-7);
+  EXPECT_NEAR(p.report.components[0].area, unflipped.report.components[0].area,
+              1e-9 * unflipped.report.components[0].area);
+  EXPECT_EQ(c.mesh.euler_characteristic(), u.euler_characteristic());
+  // Each Delaunay flip raises the sorted list of angles (Lawson): so do all of them together.
+  const std::vector<double> before = sorted_angles(u), after = sorted_angles(c.mesh);
+  EXPECT_TRUE(
+      std::lexicographical_compare(before.begin(), before.end(), after.begin(), after.end()));
+
+  const auto fandisk = read_mesh(test::data_dir() / "fandisk.off");
+  const PreparedMesh f = prepare(fandisk.mesh);
+  EXPECT_EQ(f.report.components[0].flat_flips, 0u);
+  EXPECT_EQ(f.components[0].mesh.faces(),
+            prepare(fandisk.mesh, {.flip_flat = false}).components[0].mesh.faces());
+}
 
 TEST(Prepare, NonManifoldEdgeIsRejectedOrDetached) {
   // Three fans of two triangles each around edge 0-1: six faces on one edge.
