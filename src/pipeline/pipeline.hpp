@@ -63,8 +63,9 @@ struct PipelineOptions {
   // they bridge) becomes a meta-vertex (seg/tip_split.hpp), hence a lattice point, and the
   // component runs again from the same VSA partition; the run with the smaller two-sided
   // distance and no more folded quads is kept. A kept run is searched for tips again, with the
-  // earlier ones kept, at most kTipRounds runs with tips; after a run not kept, tips are added
-  // one at a time, and the next run not kept ends the rounds.
+  // earlier ones kept, at most kTipRounds runs with tips; a run not kept is searched in turn,
+  // except one that added several tips to the kept run: then tips are added to the kept run one
+  // at a time.
   bool tip_split = true;
   Stage last = Stage::extract;
 };
