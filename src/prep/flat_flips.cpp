@@ -26,6 +26,16 @@ double angle_at(const Vec3& p, const Vec3& q, const Vec3& r) {
 // into (a, d, c) and (d, b, c), which keeps the orientation.
 uint32_t flip_flat_edges(const std::vector<Vec3>& positions, std::vector<Tri>& tris,
                          double tolerance) {
+  // Only edges of needles can flip, and a flip queues the edges around it: the edges of the
+  // input's needles are all that need checking at first (none on most meshes). They are queued
+  // in the order all edges would be, which the flips depend on.
+  auto least_angle = [&](const Tri& t) {
+    const Vec3 &p0 = positions[t[0]], &p1 = positions[t[1]], &p2 = positions[t[2]];
+    return std::min({angle_at(p0, p1, p2), angle_at(p1, p2, p0), angle_at(p2, p0, p1)});
+  };
+  std::vector<char> needle(tris.size());
+  for (uint32_t t = 0; t < tris.size(); ++t) needle[t] = least_angle(tris[t]) < kNeedle;
+  if (std::find(needle.begin(), needle.end(), 1) == needle.end()) return 0;
   std::unordered_map<uint64_t, uint32_t> at;
   at.reserve(3 * tris.size());
   for (uint32_t t = 0; t < tris.size(); ++t)
@@ -34,7 +44,9 @@ uint32_t flip_flat_edges(const std::vector<Vec3>& positions, std::vector<Tri>& t
   for (uint32_t t = uint32_t(tris.size()); t-- > 0;)
     for (uint32_t i = 3; i-- > 0;) {
       const uint32_t a = tris[t][i], b = tris[t][(i + 1) % 3];
-      if (a < b) stack.push_back({a, b});
+      const auto twin = at.find(edge_key(b, a));
+      if (a < b && (needle[t] || (twin != at.end() && needle[twin->second / 3])))
+        stack.push_back({a, b});
     }
   // Lawson's flips end in the plane; the cap only guards against rounding on near-flat quads.
   const std::size_t max_flips = 20 * tris.size() + 100;
@@ -52,9 +64,7 @@ uint32_t flip_flat_edges(const std::vector<Vec3>& positions, std::vector<Tri>& t
     // points do not flip back and forth).
     if (angle_at(pc, pa, pb) + angle_at(pd, pb, pa) <= std::numbers::pi + 1e-9) continue;
     // Only where a needle is: a triangulation of well-shaped triangles stays as it came.
-    if (std::min({angle_at(pa, pb, pc), angle_at(pb, pc, pa), angle_at(pc, pa, pb),
-                  angle_at(pb, pa, pd), angle_at(pa, pd, pb), angle_at(pd, pb, pa)}) >= kNeedle)
-      continue;
+    if (std::min(least_angle(tris[t1]), least_angle(tris[t2])) >= kNeedle) continue;
     // Flat: the diagonals a-b and c-d pass within `tolerance` of each other, which bounds how
     // far the flip moves the surface.
     const Vec3 across = cross(pb - pa, pd - pc);
