@@ -253,7 +253,7 @@ RefinedMesh cut_along_chords(const RefinedMesh& in, const std::vector<EdgePoint>
           for (const auto& [x, y, z] :
                {std::array{p, q, r}, std::array{q, r, p}, std::array{r, p, q}}) {
             const Vec3 u = y - x, w = z - x;
-            least = std::min(least, std::atan2(norm(cross(u, w)), dot(u, w)));
+            least = std::min(least, angle_between(u, w));
           }
           if (least > best) best = least, ear = i;
         }

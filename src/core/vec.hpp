@@ -27,6 +27,8 @@ inline Vec3 cross(Vec3 a, Vec3 b) {
 }
 inline double squared_norm(Vec3 a) { return dot(a, a); }
 inline double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
+// The angle between a and b in [0, pi], accurate near 0 and pi (unlike acos of the cosine).
+inline double angle_between(Vec3 a, Vec3 b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 inline Vec3 normalized(Vec3 a) {
   const double n = norm(a);
   return n > 0 ? a / n : Vec3{};

@@ -421,7 +421,7 @@ void split_crease_corners(QuadMesh& qm, const TriMesh& base, const AabbTree& tre
       if (!roles.fixed[q[i]] && !roles.slide[q[i]]) continue;
       const Vec3 a = qm.positions[q[(i + 1) % 4]] - qm.positions[q[i]];
       const Vec3 b = qm.positions[q[(i + 3) % 4]] - qm.positions[q[i]];
-      const double angle = std::atan2(norm(cross(a, b)), dot(a, b));
+      const double angle = angle_between(a, b);
       if (angle > widest) widest = angle, k = i;
     }
     if (k < 0 || widest < 150.0 * std::numbers::pi / 180.0) continue;

@@ -20,7 +20,7 @@ double corner_angle_3d(const TriMesh& mesh, uint32_t f, int c) {
   const Tri& t = mesh.face(f);
   const Vec3 a = mesh.position(t[(c + 1) % 3]) - mesh.position(t[c]);
   const Vec3 b = mesh.position(t[(c + 2) % 3]) - mesh.position(t[c]);
-  return std::atan2(norm(cross(a, b)), dot(a, b));
+  return angle_between(a, b);
 }
 
 }  // namespace

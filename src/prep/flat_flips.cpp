@@ -13,10 +13,8 @@ const double kNeedle = 10 * std::numbers::pi / 180;  // a triangle with a smalle
 
 uint64_t edge_key(uint32_t from, uint32_t to) { return uint64_t(from) << 32 | to; }
 
-double angle_at(const Vec3& p, const Vec3& q, const Vec3& r) {
-  const Vec3 u = q - p, v = r - p;
-  return std::atan2(norm(cross(u, v)), dot(u, v));
-}
+// The angle at p of the triangle p, q, r.
+double angle_at(const Vec3& p, const Vec3& q, const Vec3& r) { return angle_between(q - p, r - p); }
 
 }  // namespace
 

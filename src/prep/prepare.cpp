@@ -44,7 +44,7 @@ void shape_statistics(const std::vector<Vec3>& positions, const std::vector<Tri>
     for (int i = 0; i < 3; ++i) {
       const Vec3 u = positions[t[(i + 1) % 3]] - positions[t[i]];
       const Vec3 v = positions[t[(i + 2) % 3]] - positions[t[i]];
-      min_angle = std::min(min_angle, std::atan2(norm(cross(u, v)), dot(u, v)));
+      min_angle = std::min(min_angle, angle_between(u, v));
     }
   }
   r.area = area / (scale * scale);
@@ -146,9 +146,8 @@ PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
       fin.push_back(s.tri_input[t]);
     }
     shape_statistics(positions, tris, out.normalization.scale, r);
-    // Flat within 1e-7 of the unit diagonal: planar faces of CAD exports, written in single
-    // precision, are flat to about that.
-    if (options.flip_flat) r.flat_flips = prep::flip_flat_edges(positions, tris, 1e-7);
+    if (options.flip_flat)
+      r.flat_flips = prep::flip_flat_edges(positions, tris, prep::kFlatTolerance);
     PreparedComponent pc;
     pc.mesh = TriMesh(std::move(positions), std::move(tris));
     pc.input_vertex = VertexData<uint32_t>(std::move(vin));

@@ -47,6 +47,9 @@ ComponentReport combinatorial_topology(const Soup& soup, const std::vector<uint3
 // CAD exports triangulate each planar face as fans of needles across it, and segments,
 // patches and quads then follow the needles. Returns the number of flips; the vertices stay,
 // so the surface does too (within `tolerance`).
+// The flatness flip_flat_edges asks of prepared components (unit bounding-box diagonal): planar
+// faces of CAD exports, written in single precision, are flat to about that.
+constexpr double kFlatTolerance = 1e-7;
 uint32_t flip_flat_edges(const std::vector<Vec3>& positions, std::vector<Tri>& tris,
                          double tolerance);
 

@@ -93,7 +93,7 @@ std::vector<PatchTopology> local_patch_topology(const TriMesh& mesh,
 double corner_angle(const TriMesh& mesh, uint32_t h) {
   const Vec3 o = mesh.position(mesh.from(h));
   const Vec3 a = mesh.position(mesh.to(h)) - o, b = mesh.position(mesh.from(TriMesh::prev(h))) - o;
-  return std::atan2(norm(cross(a, b)), dot(a, b));
+  return angle_between(a, b);
 }
 
 double patch_angle(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t v, uint32_t p) {

@@ -203,7 +203,7 @@ WedgeResult wedge_paths(const TriMesh& mesh, const FaceData<uint32_t>& labels, u
       const uint32_t vj = mesh.to(h), vk = mesh.to(TriMesh::next(h));
       const Vec3 a = mesh.position(vj) - xi, b = mesh.position(vk) - xi;
       const double la = std::max(norm(a), 1e-300), lb = std::max(norm(b), 1e-300);
-      const double half = 0.5 * std::atan2(norm(cross(a, b)), dot(a, b));
+      const double half = 0.5 * angle_between(a, b);
       const double t = std::max(std::tan(half), 1e-12);
       add(vj, t / la);
       add(vk, t / lb);

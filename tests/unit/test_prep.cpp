@@ -96,7 +96,7 @@ TEST(Prepare, NeedleFansOfAFlatFaceAreFlippedAway) {
   EXPECT_GT(r.flat_flips, 0u);
   EXPECT_GT(smallest_angle_deg(m), 10.0);  // no needle left
   std::vector<Tri> again = m.faces();
-  EXPECT_EQ(prep::flip_flat_edges(m.positions(), again, 1e-7), 0u);
+  EXPECT_EQ(prep::flip_flat_edges(m.positions(), again, prep::kFlatTolerance), 0u);
   // The same vertices, faces and surface: the flips only change which vertices are joined.
   EXPECT_EQ(m.num_vertices(), plate.positions.size());
   EXPECT_EQ(m.num_faces(), plate.num_faces());
@@ -138,7 +138,7 @@ TEST(Prepare, FlatFlipsOnCadMeshesKeepTheSurface) {
   const PreparedComponent& c = p.components[0];
   EXPECT_GT(p.report.components[0].flat_flips, 100u);
   std::vector<Tri> tris = c.mesh.faces();
-  EXPECT_EQ(prep::flip_flat_edges(c.mesh.positions(), tris, 1e-7), 0u);
+  EXPECT_EQ(prep::flip_flat_edges(c.mesh.positions(), tris, prep::kFlatTolerance), 0u);
   const PreparedMesh unflipped = prepare(rotor.mesh, {.flip_flat = false});
   const TriMesh& u = unflipped.components[0].mesh;
   std::vector<std::array<Vec3, 3>> faces;
