@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include <tbb/parallel_for.h>
 
@@ -447,12 +448,11 @@ void split_crease_corners(QuadMesh& qm, const TriMesh& base, const AabbTree& tre
 }  // namespace
 
 void untangle_quads(QuadMesh& qm, const TriMesh& base, const TriMesh& seams, const MetaMesh& meta,
-                    const UntangleOptions& o, UntangleReport& report) {
+                    const UntangleOptions& o, UntangleReport& report, const AabbTree* base_tree) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<std::array<Vec3, 3>> triangles(base.num_faces());
-  for (uint32_t f = 0; f < base.num_faces(); ++f)
-    for (int k = 0; k < 3; ++k) triangles[f][k] = base.position(base.face(f)[k]);
-  const AabbTree tree(std::move(triangles));
+  std::optional<AabbTree> own;
+  if (!base_tree) own.emplace(face_triangles(base));
+  const AabbTree& tree = base_tree ? *base_tree : *own;
   if (qm.mapped.size() != qm.positions.size()) qm.mapped = qm.positions;
   std::vector<int> worst;
   untangle_sweeps(qm, base, tree, seams, meta, o, report, worst);

@@ -38,6 +38,7 @@
 
 #include "extract/extract.hpp"
 #include "layout/meta_mesh.hpp"
+#include "metrics/aabb_tree.hpp"
 
 namespace isoquad {
 
@@ -87,9 +88,11 @@ inline std::pair<uint32_t, uint32_t> fold_score(const UntangleReport& r) {
   return {r.nonpositive, r.degenerate};
 }
 
-// `base` is the surface the quads' SurfacePoints refer to.
+// `base` is the surface the quads' SurfacePoints refer to; `base_tree`, if given, the tree of its
+// faces in order (face_triangles), built here otherwise.
 // `seams` is the mesh whose vertices the meta-edges list (`base` with its dividing edges split).
 void untangle_quads(QuadMesh& quads, const TriMesh& base, const TriMesh& seams,
-                    const MetaMesh& meta, const UntangleOptions& options, UntangleReport& report);
+                    const MetaMesh& meta, const UntangleOptions& options, UntangleReport& report,
+                    const AabbTree* base_tree = nullptr);
 
 }  // namespace isoquad

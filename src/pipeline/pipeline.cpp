@@ -85,6 +85,9 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       [&] {
         if (dissect && run.surface_ranks.size() != surface.num_vertices())
           run.surface_ranks = nested_dissection_ranks(surface);
+        // Untangling, snapping and the tip search query the surface: its tree is built here, on
+        // the core the segmentation leaves idle.
+        if (o.last == Stage::extract) surface_tree(run);
       });
   run.segment_seconds += seconds_since(t0);
   if (o.last == Stage::segment) return;
@@ -148,7 +151,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       uo.edge_length = run.layout.edge_length;
       uo.collapse_rounds = 0;  // once, at the end: a fold round may still remove the fold
       untangle_quads(run.quads, surface, run.seg.refined.mesh, run.seg.meta, uo,
-                     run.untangle_report);
+                     run.untangle_report, &surface_tree(run));
     }
     run.extract_seconds += seconds_since(t);
   };
@@ -166,7 +169,8 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     UntangleOptions uo;
     uo.edge_length = run.layout.edge_length;
     UntangleReport last;
-    untangle_quads(quads, surface, run.seg.refined.mesh, run.seg.meta, uo, last);
+    untangle_quads(quads, surface, run.seg.refined.mesh, run.seg.meta, uo, last,
+                   &surface_tree(run));
     r.folded_after = last.folded_after;
     r.folded = std::move(last.folded);
     r.min_after = last.min_after;
