@@ -2,12 +2,15 @@
 
 #include <cmath>
 #include <map>
+#include <random>
 
+#include "corpus.hpp"
 #include "extract/collapse.hpp"
 #include "extract/extract.hpp"
 #include "extract/snap.hpp"
 #include "extract/surface_walk.hpp"
 #include "extract/untangle.hpp"
+#include "io/read_mesh.hpp"
 #include "isoquad/error.hpp"
 #include "isoquad/remesh.hpp"
 #include "metrics/aabb_tree.hpp"
@@ -245,6 +248,52 @@ TEST(Quality, NormalAtAClosestEdgeIsTheMeanOfItsFaces) {
     EXPECT_NEAR(side.y, std::sqrt(0.5), 1e-12);
     EXPECT_NEAR(side.z, std::sqrt(0.5), 1e-12);
   }
+}
+
+// The tree searches nearer boxes first and prunes with the best distance so far; its answers
+// must be those of a scan of every triangle: the distance, and the normal averaged over every
+// triangle within the tolerance of it (in triangle order), so that untangling, snapping and
+// `isoquad quality` agree whatever the tree's layout. Fandisk has ridges and corners, where
+// several triangles are closest; the points are at and near its vertices, edges and faces.
+TEST(Quality, TreeQueriesEqualAScanOfEveryTriangle) {
+  const PreparedMesh prep = prepare(read_mesh(test::data_dir() / "fandisk.off").mesh);
+  const TriMesh& mesh = prep.components.at(0).mesh;
+  const std::vector<std::array<Vec3, 3>> tris = face_triangles(mesh);
+  const AabbTree tree(tris);
+  Box3 box;
+  for (const Vec3& p : mesh.positions()) box.add(p);
+  const double tol = 1e-9 * box.diagonal();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> offset(-0.02, 0.02);
+  uint32_t shared = 0;  // queries whose closest point is on several triangles
+  for (uint32_t i = 0; i < 600; ++i) {
+    const Tri& t = mesh.face(uint32_t(rng() % mesh.num_faces()));
+    const double w0 = (i % 3 == 0) ? 1.0 : 0.2, w1 = (i % 3 == 1) ? 0.0 : 0.3;  // vertex, edge
+    const Vec3 on =
+        w0 * mesh.position(t[0]) + w1 * mesh.position(t[1]) + (1 - w0 - w1) * mesh.position(t[2]);
+    // Half of the points on the surface (on a vertex or an edge: several triangles closest),
+    // half off it.
+    const double off = i % 2 ? box.diagonal() : 0.0;
+    const Vec3 p = on + off * Vec3{offset(rng), offset(rng), offset(rng)};
+    double best = INFINITY;
+    for (const auto& s : tris)
+      best = std::min(best, norm(closest_point_on_triangle(p, s[0], s[1], s[2]) - p));
+    EXPECT_EQ(tree.closest(p).distance, best);
+    Vec3 sum{0, 0, 0};
+    uint32_t within = 0;
+    for (const auto& s : tris)
+      if (norm(closest_point_on_triangle(p, s[0], s[1], s[2]) - p) <= best + tol) {
+        sum = sum + normalized(cross(s[1] - s[0], s[2] - s[0]));
+        ++within;
+      }
+    shared += within > 1;
+    const Vec3 n = tree.normal_at_closest(p), hinted = tree.normal_at_closest(p, t[0] % 7);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(n[k], normalized(sum)[k]) << "query " << i;
+      EXPECT_EQ(hinted[k], n[k]) << "query " << i;
+    }
+  }
+  EXPECT_GT(shared, 100u);  // the ties the averaging is for were exercised
 }
 
 TEST(Remesh, EigenEntryPoint) {
