@@ -1,6 +1,7 @@
 #include "layout/straighten.hpp"
 
 #include <algorithm>
+#include <iterator>
 
 #include "layout/meta_mesh.hpp"
 #include "seg/geodesic.hpp"
@@ -56,8 +57,18 @@ uint32_t relabel_ears(const TriMesh& m, FaceData<uint32_t>& labels, const EdgeDa
   return moved;
 }
 
+// What smooth_seam reuses from seam to seam, so that each costs about its two patches, not the
+// mesh: the path search's arrays, marks (all 0 between calls) and each patch's faces in
+// increasing order.
+struct SeamScratch {
+  PathScratch path;
+  std::vector<char> cut, left;
+  std::vector<std::vector<uint32_t>> faces;
+};
+
 // Replaces the seam of meta-edge e by the shortest path between its ends inside P and Q.
-bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, const MetaEdge& e) {
+bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, const MetaEdge& e,
+                 SeamScratch& scratch) {
   const uint32_t p = e.left, q = e.right;
   auto in_pq = [&](uint32_t f) { return labels[f] == p || labels[f] == q; };
   auto inner_edge = [&](uint32_t edge) {
@@ -72,26 +83,26 @@ bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, const MetaEdge& e
     return all;
   };
   const uint32_t a = e.vertices.front(), b = e.vertices.back();
-  const ShortestPaths sp = vertex_dijkstra(
-      m, {a},
+  double length = INFINITY;
+  const std::vector<uint32_t> path = vertex_path(
+      m, a, b,
       [&](uint32_t v, uint32_t edge) { return inner_edge(edge) && (v == b || inner_vertex(v)); },
-      [&](uint32_t v) { return v == b; });
-  const std::vector<uint32_t> path = sp.path_to(b);
-  if (path.size() < 2 || sp.distance[b] >= e.length * (1 - 1e-9)) return false;
+      scratch.path, length);
+  if (path.size() < 2 || length >= e.length * (1 - 1e-9)) return false;
 
   // Halfedges along the path, and the faces on their left.
-  std::vector<char> cut(m.num_edges(), 0);
-  std::vector<uint32_t> left_faces;
+  std::vector<char>& cut = scratch.cut;
+  std::vector<uint32_t> cut_edges, left_faces;
   for (std::size_t i = 0; i + 1 < path.size(); ++i)
     m.for_each_outgoing(path[i], [&](uint32_t h) {
       if (m.to(h) == path[i + 1]) {
         cut[m.edge(h)] = 1;
+        cut_edges.push_back(m.edge(h));
         left_faces.push_back(TriMesh::face_of(h));
       }
     });
   // Flood P and Q from the left side without crossing the path: that side becomes P.
-  FaceData<uint32_t> trial = labels;
-  std::vector<char> left(m.num_faces(), 0);
+  std::vector<char>& left = scratch.left;
   std::vector<uint32_t> stack = left_faces;
   for (uint32_t f : stack) left[f] = 1;
   while (!stack.empty()) {
@@ -107,22 +118,39 @@ bool smooth_seam(const TriMesh& m, FaceData<uint32_t>& labels, const MetaEdge& e
       }
     }
   }
-  uint32_t left_count = 0;
+  for (const uint32_t c : cut_edges) cut[c] = 0;
+  // The faces of P and Q in increasing order, relabelled by side (undone if rejected).
   std::vector<uint32_t> region;
-  for (uint32_t f = 0; f < m.num_faces(); ++f) {
-    if (!in_pq(f)) continue;
-    region.push_back(f);
-    left_count += left[f];
-    trial[f] = left[f] ? p : q;
-  }
+  std::merge(scratch.faces[p].begin(), scratch.faces[p].end(), scratch.faces[q].begin(),
+             scratch.faces[q].end(), std::back_inserter(region));
+  uint32_t left_count = 0;
+  for (const uint32_t f : region) left_count += left[f];
   const uint32_t total = uint32_t(region.size());
-  if (left_count == 0 || left_count == total) return false;  // the path does not separate P and Q
-  const auto before_a = wedges_at(m, labels, a).size(), before_b = wedges_at(m, labels, b).size();
-  if (wedges_at(m, trial, a).size() != before_a || wedges_at(m, trial, b).size() != before_b)
+  auto reject = [&] {
+    for (const uint32_t f : region) left[f] = 0;
     return false;
-  const auto topo = local_patch_topology(m, trial, region, {p, q});
-  if (!topo[0].is_disk() || !topo[1].is_disk()) return false;
-  labels = std::move(trial);
+  };
+  if (left_count == 0 || left_count == total) return reject();  // the path does not separate
+  const auto before_a = wedges_at(m, labels, a).size(), before_b = wedges_at(m, labels, b).size();
+  std::vector<uint32_t> saved(total);
+  for (uint32_t i = 0; i < total; ++i) {
+    saved[i] = labels[region[i]];
+    labels[region[i]] = left[region[i]] ? p : q;
+  }
+  bool ok =
+      wedges_at(m, labels, a).size() == before_a && wedges_at(m, labels, b).size() == before_b;
+  if (ok) {
+    const auto topo = local_patch_topology(m, labels, region, {p, q});
+    ok = topo[0].is_disk() && topo[1].is_disk();
+  }
+  if (!ok) {
+    for (uint32_t i = 0; i < total; ++i) labels[region[i]] = saved[i];
+    return reject();
+  }
+  scratch.faces[p].clear();
+  scratch.faces[q].clear();
+  for (const uint32_t f : region) scratch.faces[labels[f]].push_back(f);
+  for (const uint32_t f : region) left[f] = 0;
   return true;
 }
 
@@ -136,9 +164,14 @@ void straighten_seams(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t n,
   MetaMeshOptions one;
   one.min_corners = 1;
   const MetaMesh junctions = build_meta_mesh(m, labels, n, feature, one);
+  SeamScratch scratch;
+  scratch.cut.assign(m.num_edges(), 0);
+  scratch.left.assign(m.num_faces(), 0);
+  scratch.faces.resize(n);
+  for (uint32_t f = 0; f < m.num_faces(); ++f) scratch.faces.at(labels[f]).push_back(f);
   for (const MetaEdge& e : junctions.edges) {
     if (e.right == kInvalid || e.feature || e.mv0 == e.mv1) continue;
-    if (smooth_seam(m, labels, e)) ++log.geodesic;
+    if (smooth_seam(m, labels, e, scratch)) ++log.geodesic;
   }
   log.ears += relabel_ears(m, labels, feature);
   log.seam_length_after = seam_length(m, labels, feature);

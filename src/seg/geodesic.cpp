@@ -16,38 +16,65 @@ std::vector<uint32_t> ShortestPaths::path_to(uint32_t target) const {
 
 namespace {
 
-// Generic Dijkstra over n nodes; neighbours(node, visit(next, length)).
-template <class Neighbours>
-ShortestPaths dijkstra(std::size_t n, const std::vector<uint32_t>& sources, Neighbours&& neighbours,
-                       const std::function<bool(uint32_t)>& stop) {
-  ShortestPaths r;
-  r.distance.assign(n, INFINITY);
-  r.predecessor.assign(n, kInvalid);
-  r.source.assign(n, kInvalid);
+// Generic Dijkstra: `distance` (INFINITY where not reached yet) is updated in place;
+// reached(node, from) runs whenever a node gets a shorter distance (from kInvalid at a source);
+// neighbours(node, visit(next, length)); the search ends when stop(node) holds for a settled
+// node.
+template <class Neighbours, class Stop, class Reached>
+void dijkstra(std::vector<double>& distance, const std::vector<uint32_t>& sources,
+              Neighbours&& neighbours, Stop&& stop, Reached&& reached) {
   using Item = std::pair<double, uint32_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
   for (uint32_t s : sources) {
-    if (r.distance[s] == 0) continue;
-    r.distance[s] = 0;
-    r.source[s] = s;
+    if (distance[s] == 0) continue;
+    distance[s] = 0;
+    reached(s, kInvalid);
     queue.push({0.0, s});
   }
   while (!queue.empty()) {
     const auto [d, u] = queue.top();
     queue.pop();
-    if (d > r.distance[u]) continue;
-    if (stop && stop(u)) break;
+    if (d > distance[u]) continue;
+    if (stop(u)) break;
     neighbours(u, [&](uint32_t v, double len) {
       const double nd = d + len;
-      if (nd < r.distance[v]) {
-        r.distance[v] = nd;
-        r.predecessor[v] = u;
-        r.source[v] = r.source[u];
+      if (nd < distance[v]) {
+        distance[v] = nd;
+        reached(v, u);
         queue.push({nd, v});
       }
     });
   }
+}
+
+template <class Neighbours, class Stop>
+ShortestPaths shortest_paths(std::size_t n, const std::vector<uint32_t>& sources,
+                             Neighbours&& neighbours, Stop&& stop) {
+  ShortestPaths r;
+  r.distance.assign(n, INFINITY);
+  r.predecessor.assign(n, kInvalid);
+  r.source.assign(n, kInvalid);
+  dijkstra(r.distance, sources, neighbours, stop, [&](uint32_t v, uint32_t from) {
+    r.predecessor[v] = from;
+    r.source[v] = from == kInvalid ? v : r.source[from];
+  });
   return r;
+}
+
+// The vertex graph's neighbours of u that `allowed(v, edge)` lets in, with their distances.
+auto vertex_neighbours(const TriMesh& mesh, const auto& allowed) {
+  return [&mesh, &allowed](uint32_t u, auto&& visit) {
+    auto go = [&](uint32_t v, uint32_t h) {
+      if (allowed(v, mesh.edge(h))) visit(v, norm(mesh.position(v) - mesh.position(u)));
+    };
+    mesh.for_each_outgoing(u, [&](uint32_t h) { go(mesh.to(h), h); });
+    // The last neighbour of a boundary fan is reached only through the incoming boundary edge.
+    if (mesh.is_boundary_vertex(u)) {
+      uint32_t last = mesh.outgoing(u);
+      mesh.for_each_outgoing(u, [&](uint32_t g) { last = g; });
+      go(mesh.from(TriMesh::prev(last)), TriMesh::prev(last));
+    }
+  };
 }
 
 }  // namespace
@@ -55,21 +82,36 @@ ShortestPaths dijkstra(std::size_t n, const std::vector<uint32_t>& sources, Neig
 ShortestPaths vertex_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& sources,
                               const std::function<bool(uint32_t, uint32_t)>& allowed,
                               const std::function<bool(uint32_t)>& stop) {
-  return dijkstra(
-      mesh.num_vertices(), sources,
-      [&](uint32_t u, auto&& visit) {
-        auto go = [&](uint32_t v, uint32_t h) {
-          if (allowed(v, mesh.edge(h))) visit(v, norm(mesh.position(v) - mesh.position(u)));
-        };
-        mesh.for_each_outgoing(u, [&](uint32_t h) { go(mesh.to(h), h); });
-        // The last neighbour of a boundary fan is reached only through the incoming boundary edge.
-        if (mesh.is_boundary_vertex(u)) {
-          uint32_t last = mesh.outgoing(u);
-          mesh.for_each_outgoing(u, [&](uint32_t g) { last = g; });
-          go(mesh.from(TriMesh::prev(last)), TriMesh::prev(last));
-        }
-      },
-      stop);
+  return shortest_paths(mesh.num_vertices(), sources, vertex_neighbours(mesh, allowed),
+                        [&](uint32_t v) { return stop && stop(v); });
+}
+
+std::vector<uint32_t> vertex_path(const TriMesh& mesh, uint32_t a, uint32_t b,
+                                  const std::function<bool(uint32_t, uint32_t)>& allowed,
+                                  PathScratch& scratch, double& length) {
+  const uint32_t nv = mesh.num_vertices();
+  if (scratch.distance.size() != nv) {
+    scratch.distance.assign(nv, INFINITY);
+    scratch.predecessor.assign(nv, kInvalid);
+  }
+  scratch.touched.clear();
+  dijkstra(
+      scratch.distance, {a}, vertex_neighbours(mesh, allowed), [&](uint32_t v) { return v == b; },
+      [&](uint32_t v, uint32_t from) {
+        if (scratch.predecessor[v] == kInvalid && v != a) scratch.touched.push_back(v);
+        scratch.predecessor[v] = from;
+      });
+  length = scratch.distance[b];
+  std::vector<uint32_t> path;
+  if (length < INFINITY)
+    for (uint32_t v = b; v != kInvalid; v = scratch.predecessor[v]) path.push_back(v);
+  std::reverse(path.begin(), path.end());
+  for (const uint32_t v : scratch.touched) {
+    scratch.distance[v] = INFINITY;
+    scratch.predecessor[v] = kInvalid;
+  }
+  scratch.distance[a] = INFINITY;
+  return path;
 }
 
 double geodesic_distance(const TriMesh& mesh, uint32_t a, uint32_t b,
@@ -140,7 +182,7 @@ ShortestPaths face_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& so
     const Tri& t = mesh.face(f);
     return (mesh.position(t[0]) + mesh.position(t[1]) + mesh.position(t[2])) / 3.0;
   };
-  return dijkstra(
+  return shortest_paths(
       mesh.num_faces(), sources,
       [&](uint32_t f, auto&& visit) {
         for (uint32_t i = 0; i < 3; ++i) {
@@ -150,7 +192,7 @@ ShortestPaths face_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& so
           visit(g, norm(centroid(g) - centroid(f)));
         }
       },
-      nullptr);
+      [](uint32_t) { return false; });
 }
 
 }  // namespace isoquad

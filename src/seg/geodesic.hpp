@@ -23,6 +23,17 @@ ShortestPaths vertex_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& 
                               const std::function<bool(uint32_t, uint32_t)>& allowed,
                               const std::function<bool(uint32_t)>& stop = nullptr);
 
+// vertex_dijkstra from a until b is settled, as the path from a to b (empty where b is not
+// reached) and its `length`. The search's arrays live in `scratch`, reset only where it went:
+// many short searches on a large mesh (one per seam) do not each fill arrays over all of it.
+struct PathScratch {
+  std::vector<double> distance;
+  std::vector<uint32_t> predecessor, touched;
+};
+std::vector<uint32_t> vertex_path(const TriMesh& mesh, uint32_t a, uint32_t b,
+                                  const std::function<bool(uint32_t, uint32_t)>& allowed,
+                                  PathScratch& scratch, double& length);
+
 // Face Dijkstra between centroids across edges where `crossable(halfedge)` holds.
 ShortestPaths face_dijkstra(const TriMesh& mesh, const std::vector<uint32_t>& sources,
                             const std::function<bool(uint32_t)>& crossable);

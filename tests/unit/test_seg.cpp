@@ -4,7 +4,10 @@
 #include <set>
 
 #include "core/refined_mesh.hpp"
+#include "corpus.hpp"
+#include "io/read_mesh.hpp"
 #include "prep/prepare.hpp"
+#include "seg/geodesic.hpp"
 #include "seg/patch_topology.hpp"
 #include "seg/segment.hpp"
 #include "seg_checks.hpp"
@@ -409,4 +412,35 @@ TEST(TipSplit, JunctionIsLeftAlone) {
   EXPECT_EQ(log.split, 0u);
   EXPECT_EQ(n, r.num_patches);
   EXPECT_TRUE(std::equal(labels.begin(), labels.end(), r.labels.begin()));
+}
+
+// The path search that reuses its arrays (one search per seam when straightening) finds what a
+// search over fresh arrays finds, call after call: the same vertices and length, here between
+// vertices of the elephant, through half of its vertices (the rest blocked) so that some ends
+// are not reachable.
+TEST(Geodesic, ReusedPathSearchEqualsAFreshOne) {
+  const PreparedMesh prep = prepare(read_mesh(test::data_dir() / "elephant.off").mesh);
+  const TriMesh& m = prep.components.at(0).mesh;
+  const uint32_t nv = m.num_vertices();
+  auto allowed = [&](uint32_t v, uint32_t) { return v % 7 != 3; };
+  PathScratch scratch;
+  uint32_t found = 0, missed = 0;
+  for (uint32_t i = 0; i < 60; ++i) {
+    const uint32_t a = (i * 7919u) % nv, b = (i * 104729u + 17u) % nv;
+    if (a == b || a % 7 == 3) continue;
+    const ShortestPaths fresh =
+        vertex_dijkstra(m, {a}, allowed, [&](uint32_t v) { return v == b; });
+    double length = -1;
+    const std::vector<uint32_t> path = vertex_path(m, a, b, allowed, scratch, length);
+    EXPECT_EQ(path, fresh.path_to(b)) << a << " -> " << b;
+    EXPECT_EQ(length, fresh.distance[b]) << a << " -> " << b;
+    (path.empty() ? missed : found) += 1;
+  }
+  EXPECT_GT(found, 20u);
+  // Between searches every slot is back to unreached.
+  EXPECT_TRUE(std::all_of(scratch.distance.begin(), scratch.distance.end(),
+                          [](double d) { return d == INFINITY; }));
+  EXPECT_TRUE(std::all_of(scratch.predecessor.begin(), scratch.predecessor.end(),
+                          [](uint32_t p) { return p == kInvalid; }));
+  EXPECT_GT(missed, 0u);  // an end blocked off: no path, as without the reuse
 }
