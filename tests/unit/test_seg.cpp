@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <iterator>
 #include <map>
 #include <set>
 
@@ -10,6 +11,7 @@
 #include "seg/geodesic.hpp"
 #include "seg/patch_topology.hpp"
 #include "seg/segment.hpp"
+#include "seg/vsa.hpp"
 #include "seg_checks.hpp"
 #include "shapes.hpp"
 
@@ -443,4 +445,39 @@ TEST(Geodesic, ReusedPathSearchEqualsAFreshOne) {
   EXPECT_TRUE(std::all_of(scratch.predecessor.begin(), scratch.predecessor.end(),
                           [](uint32_t p) { return p == kInvalid; }));
   EXPECT_GT(missed, 0u);  // an end blocked off: no path, as without the reuse
+}
+
+// The topology of two patches from their faces alone (once per seam while straightening)
+// equals the whole mesh's count: every pair of neighbouring patches of the elephant in 30 VSA
+// patches, as VSA leaves them (not all disks yet).
+TEST(PatchTopology, LocalCountsEqualTheWholeMeshs) {
+  const PreparedMesh prep = prepare(read_mesh(test::data_dir() / "elephant.off").mesh);
+  const TriMesh& m = prep.components.at(0).mesh;
+  VsaOptions o;
+  o.patches = 30;
+  const FaceData<uint32_t> labels = segment_vsa(m, prep.components[0].feature, o).face_patch;
+  const uint32_t n = 1 + *std::max_element(labels.begin(), labels.end());
+  const std::vector<PatchTopology> whole = patch_topology(m, labels, n);
+  std::vector<std::vector<uint32_t>> faces(n);
+  for (uint32_t f = 0; f < m.num_faces(); ++f) faces[labels[f]].push_back(f);
+  std::set<std::pair<uint32_t, uint32_t>> pairs;
+  for (uint32_t h = 0; h < m.num_halfedges(); ++h) {
+    const uint32_t p = labels[TriMesh::face_of(h)], q = labels[TriMesh::face_of(m.twin(h))];
+    if (p < q) pairs.insert({p, q});
+  }
+  ASSERT_GT(pairs.size(), 40u);
+  for (const auto& [p, q] : pairs) {
+    std::vector<uint32_t> region;
+    std::merge(faces[p].begin(), faces[p].end(), faces[q].begin(), faces[q].end(),
+               std::back_inserter(region));
+    const std::vector<PatchTopology> local = local_patch_topology(m, labels, region, {p, q});
+    for (int k = 0; k < 2; ++k) {
+      const PatchTopology& w = whole[k ? q : p];
+      EXPECT_EQ(local[k].faces, w.faces) << p << " " << q;
+      EXPECT_EQ(local[k].vertices, w.vertices) << p << " " << q;
+      EXPECT_EQ(local[k].edges, w.edges) << p << " " << q;
+      EXPECT_EQ(local[k].boundary_loops, w.boundary_loops) << p << " " << q;
+      EXPECT_EQ(local[k].boundary_edges, w.boundary_edges) << p << " " << q;
+    }
+  }
 }
