@@ -122,30 +122,14 @@ double geodesic_distance(const TriMesh& mesh, uint32_t a, uint32_t b,
   thread_local std::vector<uint32_t> touched;
   if (distance.size() < mesh.num_vertices()) distance.assign(mesh.num_vertices(), INFINITY);
   touched.clear();
-  using Item = std::pair<double, uint32_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
-  distance[a] = 0;
-  touched.push_back(a);
-  queue.push({0.0, a});
-  auto visit = [&](uint32_t v, double d) {
-    if (d < distance[v]) {
-      if (distance[v] == INFINITY) touched.push_back(v);
-      distance[v] = d;
-      queue.push({d, v});
-    }
-  };
-  while (!queue.empty()) {
-    const auto [d, u] = queue.top();
-    queue.pop();
-    if (d > distance[u]) continue;
-    if (u == b) break;
+  auto neighbours = [&](uint32_t u, auto&& visit) {
     mesh.for_each_outgoing(u, [&](uint32_t h) {
       const uint32_t f = TriMesh::face_of(h);
       if (!face_allowed(f)) return;
       // Mesh edges u->v and v's predecessor in the face (both edges of face f at u).
-      visit(mesh.to(h), d + norm(mesh.position(mesh.to(h)) - mesh.position(u)));
+      visit(mesh.to(h), norm(mesh.position(mesh.to(h)) - mesh.position(u)));
       const uint32_t w = mesh.from(TriMesh::prev(h));
-      visit(w, d + norm(mesh.position(w) - mesh.position(u)));
+      visit(w, norm(mesh.position(w) - mesh.position(u)));
       // Across the opposite edge: the far vertex of the neighbouring face, unfolded.
       const uint32_t opp = TriMesh::next(h), t = mesh.twin(opp);
       if (t == kInvalid || !face_allowed(TriMesh::face_of(t))) return;
@@ -168,9 +152,12 @@ double geodesic_distance(const TriMesh& mesh, uint32_t a, uint32_t b,
       const double cos_q = q1.c * q2.c - q1.s * q2.s;
       const double lq = norm(p - q), lx = norm(s - q);
       const double d2 = lq * lq + lx * lx - 2 * lq * lx * cos_q;
-      visit(x, d + std::sqrt(std::max(d2, 0.0)));
+      visit(x, std::sqrt(std::max(d2, 0.0)));
     });
-  }
+  };
+  dijkstra(
+      distance, {a}, neighbours, [&](uint32_t v) { return v == b; },
+      [&](uint32_t v, uint32_t) { touched.push_back(v); });
   const double result = distance[b];
   for (const uint32_t v : touched) distance[v] = INFINITY;
   return result;
