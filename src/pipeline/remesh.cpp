@@ -127,6 +127,22 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
       }
       say(fmt::format("component {}: tips split: {}", c, tried));
     }
+    // The output is not all it should be: said, with where to look.
+    if (const uint32_t n = r.untangle_report.nonpositive; n > 0) {
+      std::string where;
+      if (!r.untangle_report.folded.empty()) {
+        const auto& q = r.quads.quads[r.untangle_report.folded.front()];
+        const auto& p = r.quads.positions;
+        const Vec3 x = prep.normalization.invert(0.25 * (p[q[0]] + p[q[1]] + p[q[2]] + p[q[3]]));
+        where = fmt::format(", {}near ({:.4g}, {:.4g}, {:.4g})", n == 1 ? "" : "the first ", x.x,
+                            x.y, x.z);
+      }
+      say(
+          fmt::format("component {}: warning: {} quad{} still fold{} against the surface (a "
+                      "corner's scaled Jacobian at or below 0){}; another --quads or --seed may "
+                      "avoid {}",
+                      c, n, n == 1 ? "" : "s", n == 1 ? "s" : "", where, n == 1 ? "it" : "them"));
+    }
     std::map<std::string, int> valence;
     // How far the integer lengths are from the geodesic ones: x_e / c_e per meta-edge.
     const std::vector<double> ratio = r.layout.length_ratios();
