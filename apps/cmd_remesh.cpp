@@ -51,8 +51,10 @@ Runner add_remesh(CLI::App& app) {
                 "--no-improve-corners keeps the corner ILP's choice: faster, more stretched "
                 "quads)");
   sub->add_option("--smooth", a->smooth,
-                  "Tangential smoothing iterations after extraction, vertices kept on the input "
-                  "surface (default 0: the map's lattice points as they are)")
+                  "Tangential smoothing sweeps after the fold repairs, vertices kept on the input "
+                  "surface; a move is taken only if no quad around the vertex gets below a scaled "
+                  "Jacobian of min(its value, 0.2), against its own or the surface's normal, so no "
+                  "quad folds (default 0: the quads as the repairs left them)")
       ->capture_default_str();
   sub->add_flag("--split-patches", a->split_patches,
                 "Split every patch into four-sided ones before the layout (the paper's section 5 "

@@ -15,10 +15,32 @@ double quad_sj(const std::vector<Vec3>& x, const std::array<uint32_t, 4>& q) {
   return quad_scaled_jacobian({x[q[0]], x[q[1]], x[q[2]], x[q[3]]});
 }
 
+// The smallest scaled Jacobian of quad q's corners against the surface normal, taken as the
+// untangler takes it: at the surface point closest to a point just inside the corner.
+double surface_sj(const QuadMesh& qm, const AabbTree& tree, const std::array<uint32_t, 4>& q) {
+  const std::vector<Vec3>& x = qm.positions;
+  double worst = 1;
+  for (int k = 0; k < 4; ++k) {
+    const Vec3& p = x[q[k]];
+    const Vec3 e1 = x[q[(k + 1) % 4]] - p, e2 = x[q[(k + 3) % 4]] - p;
+    const double l = norm(e1) * norm(e2);
+    if (!(l > 0)) return -1;
+    const Vec3 n = tree.normal_at_closest(p + 0.05 * (e1 + e2), qm.surface[q[k]].face);
+    worst = std::min(worst, dot(n, cross(e1, e2)) / l);
+  }
+  return worst;
+}
+
 }  // namespace
 
 void smooth_quads(QuadMesh& qm, const TriMesh& base, const MetaMesh& meta, uint32_t iterations,
-                  SmoothReport& report) {
+                  SmoothReport& report, const AabbTree* surface_tree) {
+  // The guard's values of one quad: its own scaled Jacobian, and against the surface if known.
+  auto guard = [&](const std::array<uint32_t, 4>& q) {
+    return std::pair(quad_sj(qm.positions, q),
+                     surface_tree ? surface_sj(qm, *surface_tree, q) : 1.0);
+  };
+  std::vector<std::pair<double, double>> before;
   const auto t0 = std::chrono::steady_clock::now();
   const uint32_t n = uint32_t(qm.positions.size());
   std::vector<char> fixed(n, 0);
@@ -46,20 +68,35 @@ void smooth_quads(QuadMesh& qm, const TriMesh& base, const MetaMesh& meta, uint3
       Vec3 avg;
       for (const uint32_t w : nbr[v]) avg += qm.positions[w];
       avg = avg / double(nbr[v].size());
-      double before = 1;
-      for (const uint32_t f : around[v])
-        before = std::min(before, quad_sj(qm.positions, qm.quads[f]));
+      before.clear();
+      for (const uint32_t f : around[v]) before.push_back(guard(qm.quads[f]));
       const SurfacePoint s = project_locally(base, qm.surface[v].face, avg);
       const Vec3 old = qm.positions[v];
+      const SurfacePoint old_surface = qm.surface[v];
       qm.positions[v] = position_of(base, s);
-      double after = 1;
-      for (const uint32_t f : around[v])
-        after = std::min(after, quad_sj(qm.positions, qm.quads[f]));
-      if (after >= std::min(before, 0.2)) {
-        qm.surface[v] = s;
+      qm.surface[v] = s;  // the corner normals' search starts from it
+      // Without the surface's tree, the worst quad around v may not get worse; with it, no quad
+      // may, by either measure (a quad folded already would otherwise let others fold).
+      bool ok = true;
+      if (surface_tree) {
+        for (std::size_t i = 0; i < around[v].size() && ok; ++i) {
+          const auto [own, on_surface] = guard(qm.quads[around[v][i]]);
+          ok = own >= std::min(before[i].first, 0.2) &&
+               on_surface >= std::min(before[i].second, 0.2);
+        }
+      } else {
+        double worst_before = 1, worst_after = 1;
+        for (std::size_t i = 0; i < around[v].size(); ++i) {
+          worst_before = std::min(worst_before, before[i].first);
+          worst_after = std::min(worst_after, guard(qm.quads[around[v][i]]).first);
+        }
+        ok = worst_after >= std::min(worst_before, 0.2);
+      }
+      if (ok) {
         ++report.moves;
       } else {
         qm.positions[v] = old;
+        qm.surface[v] = old_surface;
         ++report.rejected;
       }
     }

@@ -227,7 +227,6 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     run.untangle_report = {};
     run.quads = extract_quads(run.seg.refined, surface, run.seg.labels, run.seg.meta, run.layout,
                               run.param, run.extract_report);
-    if (o.smooth > 0) smooth_quads(run.quads, surface, run.seg.meta, o.smooth, run.smooth_report);
     if (o.untangle) {
       UntangleOptions uo;
       uo.edge_length = run.layout.edge_length;
@@ -406,6 +405,16 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     } else {
       run.corner_try_kept = run.corner_tries;
     }
+  }
+  // Smoothing, on the quads the repairs kept, guarded against the surface normal too, so it
+  // folds no quad: what the repairs leave folded stays as it is, and no more. Before untangling,
+  // guarded by the quads' own normals only, it left the anchor at the default size with a
+  // folded quad; after the tip snapping it would pull corners off the tips.
+  if (o.smooth > 0) {
+    t0 = Clock::now();
+    run.smooth_report = {};
+    smooth_quads(run.quads, surface, run.seg.meta, o.smooth, run.smooth_report, &surface_tree(run));
+    run.extract_seconds += seconds_since(t0);
   }
   // Last, on the quads kept: tips they cut off (only moves that make no fold).
   if (o.snap) {
