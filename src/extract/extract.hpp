@@ -7,6 +7,7 @@
 // interpolation through the refinement's provenance.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -32,6 +33,24 @@ struct QuadMesh {
   // untangler holds it to covering its point like a singularity.
   std::vector<char> merged;
 };
+
+// The smallest over quad f's corners of n . (e1 x e2) / (|e1| |e2|), with e1 and e2 the corner's
+// edges and n = normal(v, x): v the corner's vertex, x a point just inside the corner (0.05 of
+// the way along both edges, where `isoquad quality` takes the surface normal: at a vertex on a
+// crease, the side the quad lies on). -1 if a corner has an edge of length 0.
+template <class Normal>
+double quad_corner_sj(const QuadMesh& qm, uint32_t f, Normal&& normal) {
+  const auto& q = qm.quads[f];
+  double sj = 1;
+  for (int k = 0; k < 4; ++k) {
+    const Vec3& p = qm.positions[q[k]];
+    const Vec3 e1 = qm.positions[q[(k + 1) % 4]] - p, e2 = qm.positions[q[(k + 3) % 4]] - p;
+    const double l = norm(e1) * norm(e2);
+    if (!(l > 0)) return -1;
+    sj = std::min(sj, dot(normal(q[k], p + 0.05 * (e1 + e2)), cross(e1, e2)) / l);
+  }
+  return sj;
+}
 
 struct ExtractReport {
   uint32_t direct = 0;  // lattice points found in their own patch's faces

@@ -15,30 +15,20 @@ double quad_sj(const std::vector<Vec3>& x, const std::array<uint32_t, 4>& q) {
   return quad_scaled_jacobian({x[q[0]], x[q[1]], x[q[2]], x[q[3]]});
 }
 
-// The smallest scaled Jacobian of quad q's corners against the surface normal, taken as the
-// untangler takes it: at the surface point closest to a point just inside the corner.
-double surface_sj(const QuadMesh& qm, const AabbTree& tree, const std::array<uint32_t, 4>& q) {
-  const std::vector<Vec3>& x = qm.positions;
-  double worst = 1;
-  for (int k = 0; k < 4; ++k) {
-    const Vec3& p = x[q[k]];
-    const Vec3 e1 = x[q[(k + 1) % 4]] - p, e2 = x[q[(k + 3) % 4]] - p;
-    const double l = norm(e1) * norm(e2);
-    if (!(l > 0)) return -1;
-    const Vec3 n = tree.normal_at_closest(p + 0.05 * (e1 + e2), qm.surface[q[k]].face);
-    worst = std::min(worst, dot(n, cross(e1, e2)) / l);
-  }
-  return worst;
-}
-
 }  // namespace
 
 void smooth_quads(QuadMesh& qm, const TriMesh& base, const MetaMesh& meta, uint32_t iterations,
                   SmoothReport& report, const AabbTree* surface_tree) {
   // The guard's values of one quad: its own scaled Jacobian, and against the surface if known.
-  auto guard = [&](const std::array<uint32_t, 4>& q) {
-    return std::pair(quad_sj(qm.positions, q),
-                     surface_tree ? surface_sj(qm, *surface_tree, q) : 1.0);
+  auto guard = [&](uint32_t f) {
+    const double on_surface =
+        surface_tree
+            ? quad_corner_sj(qm, f,
+                             [&](uint32_t v, const Vec3& inside) {
+                               return surface_tree->normal_at_closest(inside, qm.surface[v].face);
+                             })
+            : 1.0;
+    return std::pair(quad_sj(qm.positions, qm.quads[f]), on_surface);
   };
   std::vector<std::pair<double, double>> before;
   const auto t0 = std::chrono::steady_clock::now();
@@ -69,7 +59,7 @@ void smooth_quads(QuadMesh& qm, const TriMesh& base, const MetaMesh& meta, uint3
       for (const uint32_t w : nbr[v]) avg += qm.positions[w];
       avg = avg / double(nbr[v].size());
       before.clear();
-      for (const uint32_t f : around[v]) before.push_back(guard(qm.quads[f]));
+      for (const uint32_t f : around[v]) before.push_back(guard(f));
       const SurfacePoint s = project_locally(base, qm.surface[v].face, avg);
       const Vec3 old = qm.positions[v];
       const SurfacePoint old_surface = qm.surface[v];
@@ -80,7 +70,7 @@ void smooth_quads(QuadMesh& qm, const TriMesh& base, const MetaMesh& meta, uint3
       bool ok = true;
       if (surface_tree) {
         for (std::size_t i = 0; i < around[v].size() && ok; ++i) {
-          const auto [own, on_surface] = guard(qm.quads[around[v][i]]);
+          const auto [own, on_surface] = guard(around[v][i]);
           ok = own >= std::min(before[i].first, 0.2) &&
                on_surface >= std::min(before[i].second, 0.2);
         }
@@ -88,7 +78,7 @@ void smooth_quads(QuadMesh& qm, const TriMesh& base, const MetaMesh& meta, uint3
         double worst_before = 1, worst_after = 1;
         for (std::size_t i = 0; i < around[v].size(); ++i) {
           worst_before = std::min(worst_before, before[i].first);
-          worst_after = std::min(worst_after, guard(qm.quads[around[v][i]]).first);
+          worst_after = std::min(worst_after, guard(around[v][i]).first);
         }
         ok = worst_after >= std::min(worst_before, 0.2);
       }

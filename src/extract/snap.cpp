@@ -87,18 +87,10 @@ struct Snapper {
   // each corner (as `isoquad quality` takes it); with `rough`, against the normal of the face
   // each corner is on (kRoughMargin).
   double surface_sj(uint32_t f, bool rough = false) const {
-    const auto& q = qm.quads[f];
-    double sj = 1;
-    for (int k = 0; k < 4; ++k) {
-      const Vec3& p = qm.positions[q[k]];
-      const Vec3 e1 = qm.positions[q[(k + 1) % 4]] - p, e2 = qm.positions[q[(k + 3) % 4]] - p;
-      const double l = norm(e1) * norm(e2);
-      if (!(l > 0)) return -1;
-      const Vec3 n = rough ? face_normal(base, qm.surface[q[k]].face)
-                           : surface.normal_at_closest(p + 0.05 * (e1 + e2), qm.surface[q[k]].face);
-      sj = std::min(sj, dot(n, cross(e1, e2)) / l);
-    }
-    return sj;
+    return quad_corner_sj(qm, f, [&](uint32_t v, const Vec3& inside) {
+      return rough ? face_normal(base, qm.surface[v].face)
+                   : surface.normal_at_closest(inside, qm.surface[v].face);
+    });
   }
 
   // What moving v changes: its quads (`changed`: sample points checked) and the distances of

@@ -223,7 +223,6 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
 
     t = Clock::now();
     run.extract_report = {};
-    run.smooth_report = {};
     run.untangle_report = {};
     run.quads = extract_quads(run.seg.refined, surface, run.seg.labels, run.seg.meta, run.layout,
                               run.param, run.extract_report);
@@ -273,9 +272,11 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     // quads, one round (not kept) was a third of the whole run. Where the quads are farther,
     // the rounds still go first (three_peaks at the default size: 0.77% of the diagonal with a
     // thicker patch, 1.91% with the collapses alone).
+    // The collapsed copy also serves below if no round is kept (the quads are then these).
+    std::optional<std::pair<QuadMesh, UntangleReport>> collapsed;
     if (o.fold_rounds > 0 && run.untangle_report.degenerate > 0) {
-      QuadMesh quads = run.quads;
-      UntangleReport report = run.untangle_report;
+      collapsed.emplace(run.quads, run.untangle_report);
+      auto& [quads, report] = *collapsed;
       collapse_folds(quads, report);
       const double target = (o.tolerance > 0 ? o.tolerance : kTipTarget) * diagonal;
       if (report.degenerate == 0 && far_points(surface, surface_tree(run), quads, target).empty()) {
@@ -284,6 +285,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
         return;
       }
     }
+    const uint32_t kept_before = run.fold_rounds_kept;
     // Quads still folded after untangling: give their patches more quads across and solve again,
     // while a round leaves fewer folded quads. A round that does not is undone and is the last: on
     // the corpus at 1,500 quads no round after one had helped (fandisk, mech-holes-shark and the
@@ -333,13 +335,18 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       ++run.fold_rounds_kept;
     }
 
-    // What folds are left go by diagonal collapses. Last: a collapse can cut a little off the
-    // surface, a thicker patch does not, and its extra quads also follow the surface closer.
-    // Collapsing before the rounds at 1,500 quads left the elephant and the anchor with a fold
-    // each that their rounds had removed; where the collapses alone removed every fold and the
-    // rounds were skipped, three_peaks at the default size came out at 1.91% Hausdorff instead
-    // of 0.77% (fandisk at 1,500 quads would save its one wasted round, about 40 ms).
-    if (run.untangle_report.degenerate > 0) collapse_folds(run.quads, run.untangle_report);
+    // What folds are left go by diagonal collapses. After the rounds: a collapse can cut a little
+    // off the surface, a thicker patch does not, and its extra quads also follow the surface
+    // closer (collapsing instead of the rounds left the elephant and the anchor at 1,500 quads
+    // with a fold each that their rounds had removed). With no round kept, the quads are those
+    // the copy above was collapsed from, so its result is taken.
+    if (run.untangle_report.degenerate == 0) return;
+    if (collapsed && run.fold_rounds_kept == kept_before) {
+      run.quads = std::move(collapsed->first);
+      run.untangle_report = std::move(collapsed->second);
+    } else {
+      collapse_folds(run.quads, run.untangle_report);
+    }
   };
   repair_folds();
 
