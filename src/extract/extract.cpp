@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <optional>
+#include <tuple>
 
 #include "isoquad/error.hpp"
 #include "metrics/aabb_tree.hpp"
@@ -103,6 +105,30 @@ UV apply(const Transition& t, const UV& p) {
   return {r[0] + double(t.t[0]), r[1] + double(t.t[1])};
 }
 
+// The quads a refined quad is cut into, CCW, in thirds of it: local corner 0 at (0, 0), 1 at
+// (3, 0), 2 at (3, 3), 3 at (0, 3). A side with both corners marked gets points at its thirds,
+// a side with one marked corner a point a third from that corner, so the quads across a side
+// agree on its points (Schneiders' 3-refinement, by marked corners).
+using RefineTemplate = std::vector<std::array<std::array<int, 2>, 4>>;
+// Corner 0 marked: a small quad at it and two around.
+const RefineTemplate kRefineCorner{{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}},
+                                   {{{1, 0}, {3, 0}, {3, 3}, {1, 1}}},
+                                   {{{1, 1}, {3, 3}, {0, 3}, {0, 1}}}};
+// Corners 0 and 1 marked: three small quads along their side, then three narrowing to the far
+// side.
+const RefineTemplate kRefineSide{
+    {{{0, 0}, {1, 0}, {1, 1}, {0, 1}}}, {{{1, 0}, {2, 0}, {2, 1}, {1, 1}}},
+    {{{2, 0}, {3, 0}, {3, 1}, {2, 1}}}, {{{0, 1}, {1, 1}, {1, 2}, {0, 3}}},
+    {{{1, 1}, {2, 1}, {2, 2}, {1, 2}}}, {{{2, 1}, {3, 1}, {3, 3}, {2, 2}}},
+    {{{1, 2}, {2, 2}, {3, 3}, {0, 3}}}};
+// All four marked: three by three.
+const RefineTemplate kRefineAll = [] {
+  RefineTemplate t;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) t.push_back({{{x, y}, {x + 1, y}, {x + 1, y + 1}, {x, y + 1}}});
+  return t;
+}();
+
 }  // namespace
 
 double distance_to_quad(const std::array<Vec3, 4>& p, const Vec3& x) {
@@ -136,14 +162,11 @@ std::vector<std::array<Vec3, 3>> face_triangles(const TriMesh& surface) {
   return t;
 }
 
-QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
-                       const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout,
-                       const Param& param, ExtractReport& report) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const TriMesh& mesh = refined.mesh;
+LatticeQuads lattice_quads(const MetaMesh& meta, const Layout& layout) {
   const uint32_t np = uint32_t(layout.charts.size());
-  QuadMesh out;
-
+  constexpr int64_t S = LatticeQuads::kScale;
+  LatticeQuads out;
+  out.meta_vertices = uint32_t(meta.vertices.size());
   // Lattice ids: meta-vertices, then the inner points of every meta-edge, then patch interiors.
   std::vector<uint32_t> edge_first(meta.edges.size());
   uint32_t next = uint32_t(meta.vertices.size());
@@ -153,19 +176,23 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
   }
   // Representative (patch, lattice point) of every id: the first patch that owns it, the left
   // patch for meta-edge points; meta-vertices are placed exactly.
-  struct Rep {
-    uint32_t patch = kInvalid;
-    Lattice at{0, 0};
-    uint32_t edge = kInvalid;  // meta-edge of a seam point
+  auto& points = out.points;
+  points.resize(next);
+  auto use = [&](uint32_t id, uint32_t p) {
+    auto& u = points[id].patches;
+    if (u[0] == kInvalid)
+      u = {p, p};
+    else
+      u[1] = p;
   };
-  std::vector<Rep> rep(next);
-  std::vector<std::vector<uint32_t>> grid(np);  // per patch: (W+1)(H+1) ids
+  out.side_edge.resize(np);
   for (uint32_t p = 0; p < np; ++p) {
     const Chart& ch = layout.charts[p];
     const int64_t W = ch.width, H = ch.height;
-    auto& g = grid[p];
-    g.assign(std::size_t((W + 1) * (H + 1)), kInvalid);
+    std::vector<uint32_t> g(std::size_t((W + 1) * (H + 1)), kInvalid);
     auto at = [&](Lattice q) -> uint32_t& { return g[std::size_t(q[1] * (W + 1) + q[0])]; };
+    auto& side = out.side_edge[p];
+    side.assign(std::size_t(2 * (W + H)), kInvalid);
     const MetaFace& face = meta.faces[p];
     for (uint32_t i = 0; i < face.cycle.size(); ++i) {
       const BoundaryItem& item = face.cycle[i];
@@ -174,31 +201,176 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
       const Lattice b = ch.item_position[(i + 1) % face.cycle.size()];
       const Lattice d{(b[0] - a[0]) / x, (b[1] - a[1]) / x};
       at(a) = face.start_vertex(i, meta.edges);
-      for (int64_t s = 1; s < x; ++s) {
+      for (int64_t s = 0; s < x; ++s) {
         const Lattice q{a[0] + s * d[0], a[1] + s * d[1]};
+        const std::size_t k = LatticeQuads::side_segment(W, H, q, {q[0] + d[0], q[1] + d[1]});
+        if (k < side.size()) side[k] = item.edge;
+        if (s == 0) continue;
         const uint32_t id = edge_first[item.edge] + uint32_t((item.forward ? s : x - s) - 1);
         at(q) = id;
-        if (rep[id].patch == kInvalid || item.forward) rep[id] = {p, q, item.edge};
+        use(id, p);
+        if (points[id].patch == kInvalid || item.forward)
+          points[id].patch = p, points[id].at = {S * q[0], S * q[1]}, points[id].edge = item.edge;
       }
     }
     for (int64_t j = 1; j < H; ++j)
       for (int64_t i = 1; i < W; ++i) {
         at({i, j}) = next;
-        rep.push_back({p, {i, j}, kInvalid});
+        LatticeQuads::Point pt;
+        pt.patch = p;
+        pt.at = {S * i, S * j};
+        pt.patches = {p, p};
+        points.push_back(pt);
         ++next;
       }
-    for (int64_t j = 0; j < H; ++j)
-      for (int64_t i = 0; i < W; ++i) {
-        out.quads.push_back({at({i, j}), at({i + 1, j}), at({i + 1, j + 1}), at({i, j + 1})});
-        out.quad_patch.push_back(p);
-      }
-  }
-  for (const auto& g : grid)
     for (const uint32_t id : g)
       if (id == kInvalid)
         throw Error(ErrorKind::internal, "E601", "a lattice point of a patch has no id");
+    for (int64_t j = 0; j < H; ++j)
+      for (int64_t i = 0; i < W; ++i) {
+        out.quads.push_back({at({i, j}), at({i + 1, j}), at({i + 1, j + 1}), at({i, j + 1})});
+        out.corner_at.push_back({{{S * i, S * j},
+                                  {S * (i + 1), S * j},
+                                  {S * (i + 1), S * (j + 1)},
+                                  {S * i, S * (j + 1)}}});
+        out.quad_patch.push_back(p);
+        out.level.push_back(0);
+      }
+  }
+  return out;
+}
 
-  // Geometry.
+std::size_t LatticeQuads::side_segment(int64_t W, int64_t H, Lattice u, Lattice v) {
+  const int64_t x = std::min(u[0], v[0]), y = std::min(u[1], v[1]);
+  if (u[1] == v[1] && u[1] == 0) return std::size_t(x);
+  if (u[0] == v[0] && u[0] == W) return std::size_t(W + y);
+  if (u[1] == v[1] && u[1] == H) return std::size_t(W + H + x);
+  if (u[0] == v[0] && u[0] == 0) return std::size_t(2 * W + H + y);
+  return SIZE_MAX;
+}
+
+uint32_t refine_lattice_quads(LatticeQuads& lq, const Layout& layout, std::vector<char> mark) {
+  constexpr int64_t S = LatticeQuads::kScale;
+  mark.resize(lq.points.size(), 0);
+  // Closed: no quad keeps three marked corners or two opposite ones.
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const auto& c : lq.quads) {
+      const int n = mark[c[0]] + mark[c[1]] + mark[c[2]] + mark[c[3]];
+      if (n == 3 || (n == 2 && mark[c[0]] == mark[c[2]]))
+        for (const uint32_t id : c) changed |= !mark[id], mark[id] = 1;
+    }
+  }
+  LatticeQuads out;
+  out.meta_vertices = lq.meta_vertices;
+  out.points = lq.points;
+  out.side_edge = lq.side_edge;
+  // Side points are shared with the quad across the side: keyed by the side's end ids and the
+  // point's third from the smaller one.
+  std::map<std::tuple<uint32_t, uint32_t, int>, uint32_t> side_points;
+  uint32_t refined = 0;
+  for (std::size_t f = 0; f < lq.quads.size(); ++f) {
+    const auto& c = lq.quads[f];
+    const auto& ca = lq.corner_at[f];
+    const uint32_t p = lq.quad_patch[f];
+    const int pattern = mark[c[0]] | mark[c[1]] << 1 | mark[c[2]] << 2 | mark[c[3]] << 3;
+    if (pattern == 0) {
+      out.quads.push_back(c);
+      out.corner_at.push_back(ca);
+      out.quad_patch.push_back(p);
+      out.level.push_back(lq.level[f]);
+      continue;
+    }
+    if (lq.level[f] >= LatticeQuads::kMaxLevel)
+      throw Error(ErrorKind::internal, "E602",
+                  "a quad is refined more often than its chart allows");
+    ++refined;
+    // The template turned so that its marked corners are local corner 0 (and 1), or all four.
+    int r = 0;
+    const RefineTemplate* t = &kRefineAll;
+    if (pattern != 15) {
+      const bool one = pattern == 1 || pattern == 2 || pattern == 4 || pattern == 8;
+      t = one ? &kRefineCorner : &kRefineSide;
+      while (((pattern >> r) & 1) == 0 || (!one && ((pattern >> ((r + 1) % 4)) & 1) == 0)) ++r;
+    }
+    const int64_t W = layout.charts[p].width, H = layout.charts[p].height;
+    // Local (s, u) in thirds -> chart coordinates, bilinear in the quad's corners (exact: they
+    // are multiples of 9^(kMaxLevel - level)).
+    auto chart_at = [&](int s, int u) {
+      const int64_t w[4] = {(3 - s) * (3 - u), s * (3 - u), s * u, (3 - s) * u};
+      std::array<int64_t, 2> x{0, 0};
+      for (int k = 0; k < 4; ++k)
+        for (int d = 0; d < 2; ++d) x[d] += w[k] * ca[(r + k) % 4][d];
+      return std::array<int64_t, 2>{x[0] / 9, x[1] / 9};
+    };
+    std::map<std::array<int, 2>, uint32_t> inner;
+    auto point = [&](std::array<int, 2> l) -> uint32_t {
+      const int s = l[0], u = l[1];
+      const bool s_end = s == 0 || s == 3, u_end = u == 0 || u == 3;
+      if (s_end && u_end) return c[(r + (s == 3 ? (u == 3 ? 2 : 1) : (u == 3 ? 3 : 0))) % 4];
+      const std::array<int64_t, 2> at = chart_at(s, u);
+      LatticeQuads::Point pt;
+      pt.patch = p;
+      pt.at = at;
+      pt.patches = {p, p};
+      if (!s_end && !u_end) {
+        auto [it, fresh] = inner.try_emplace(l, uint32_t(out.points.size()));
+        if (fresh) out.points.push_back(pt);
+        return it->second;
+      }
+      // On a side, from local corner a towards local corner b, k thirds along.
+      int a, b, k;
+      if (u == 0)
+        a = 0, b = 1, k = s;
+      else if (s == 3)
+        a = 1, b = 2, k = u;
+      else if (u == 3)
+        a = 3, b = 2, k = s;
+      else
+        a = 0, b = 3, k = u;
+      uint32_t ia = c[(r + a) % 4], ib = c[(r + b) % 4];
+      if (ia > ib) std::swap(ia, ib), k = 3 - k;
+      auto [it, fresh] = side_points.try_emplace({ia, ib, k}, uint32_t(out.points.size()));
+      if (fresh) {
+        // On the chart's border (a meta-edge), the unit segment it lies in says which.
+        const auto &pa = ca[(r + a) % 4], &pb = ca[(r + b) % 4];
+        const bool on_border = (pa[1] == pb[1] && (pa[1] == 0 || pa[1] == S * H)) ||
+                               (pa[0] == pb[0] && (pa[0] == 0 || pa[0] == S * W));
+        if (on_border) {
+          const Lattice lo{std::min(pa[0], pb[0]) / S, std::min(pa[1], pb[1]) / S};
+          const Lattice hi{pa[0] == pb[0] ? lo[0] : lo[0] + 1, pa[1] == pb[1] ? lo[1] : lo[1] + 1};
+          const std::size_t seg = LatticeQuads::side_segment(W, H, lo, hi);
+          if (seg < out.side_edge[p].size()) pt.edge = out.side_edge[p][seg];
+        }
+        out.points.push_back(pt);
+      } else {
+        out.points[it->second].patches[1] = p;
+      }
+      return it->second;
+    };
+    for (const auto& q : *t) {
+      out.quads.push_back({point(q[0]), point(q[1]), point(q[2]), point(q[3])});
+      out.corner_at.push_back({chart_at(q[0][0], q[0][1]), chart_at(q[1][0], q[1][1]),
+                               chart_at(q[2][0], q[2][1]), chart_at(q[3][0], q[3][1])});
+      out.quad_patch.push_back(p);
+      out.level.push_back(uint8_t(lq.level[f] + 1));
+    }
+  }
+  lq = std::move(out);
+  return refined;
+}
+
+QuadMesh place_quads(const RefinedMesh& refined, const TriMesh& base,
+                     const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout,
+                     const Param& param, const LatticeQuads& lq, ExtractReport& report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const TriMesh& mesh = refined.mesh;
+  const uint32_t np = uint32_t(layout.charts.size());
+  const uint32_t n = uint32_t(lq.points.size());
+  QuadMesh out;
+  out.quads = lq.quads;
+  out.quad_patch = lq.quad_patch;
+  report.quads = uint32_t(lq.quads.size());
   std::vector<std::vector<uint32_t>> patch_faces(np);
   for (uint32_t f = 0; f < mesh.num_faces(); ++f) patch_faces[labels[f]].push_back(f);
   std::vector<ChartIndex> relaxed(np), locked(np);
@@ -212,23 +384,26 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
       for (int k = 0; k < 3; ++k) s.bary[k] += l[c] * refined.corner_bary[f][c][k];
     return s;
   };
+  auto uv_of = [](const LatticeQuads::Point& pt) {
+    return UV{double(pt.at[0]) / double(LatticeQuads::kScale),
+              double(pt.at[1]) / double(LatticeQuads::kScale)};
+  };
   const auto any = [](uint32_t) { return true; };
   std::vector<char> suspect(np, 0);
-  out.surface.resize(next);
-  out.vertex_meta_vertex.assign(next, kInvalid);
-  out.placed.assign(next, QuadMesh::Placed::meta);
-  out.vertex_meta_edge.assign(next, kInvalid);
-  for (uint32_t id = uint32_t(meta.vertices.size()); id < next; ++id)
-    out.vertex_meta_edge[id] = rep[id].edge;
-  for (uint32_t id = 0; id < next; ++id) {
-    if (id < meta.vertices.size()) {
+  out.surface.resize(n);
+  out.vertex_meta_vertex.assign(n, kInvalid);
+  out.placed.assign(n, QuadMesh::Placed::meta);
+  out.vertex_meta_edge.assign(n, kInvalid);
+  for (uint32_t id = lq.meta_vertices; id < n; ++id) out.vertex_meta_edge[id] = lq.points[id].edge;
+  for (uint32_t id = 0; id < n; ++id) {
+    if (id < lq.meta_vertices) {
       out.surface[id] = refined.vertex_origin(meta.vertices[id].vertex);
       out.vertex_meta_vertex[id] = id;
       ++report.meta;
       continue;
     }
-    const Rep& r = rep[id];
-    const UV q{double(r.at[0]), double(r.at[1])};
+    const LatticeQuads::Point& r = lq.points[id];
+    const UV q = uv_of(r);
     std::optional<std::pair<uint32_t, std::array<double, 3>>> hit = relaxed[r.patch].locate(q, any);
     // Coverage is counted chart by chart: within one chart all faces share their corners' uv
     // bit for bit, so the half-open rule counts every point once; across a seam the two sides
@@ -271,8 +446,8 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
     }
     if (!hit)
       throw Error(ErrorKind::internal, "E601",
-                  fmt::format("lattice point ({}, {}) of patch {} is not covered by the map",
-                              r.at[0], r.at[1], r.patch));
+                  fmt::format("lattice point ({:g}, {:g}) of patch {} is not covered by the map",
+                              q[0], q[1], r.patch));
     out.surface[id] = surface_point(hit->first, hit->second);
     out.placed[id] = how;
   }
@@ -282,24 +457,24 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
   for (uint32_t p = 0; p < np; ++p) {
     if (!suspect[p]) continue;
     ++report.patches_locked;
-    for (const uint32_t id : grid[p]) {
-      if (id < meta.vertices.size() || out.placed[id] == QuadMesh::Placed::locked) continue;
-      const Rep& r = rep[id];
-      // The id's own representative point, expressed in patch p when it is a seam point.
-      const UV q{double(r.at[0]), double(r.at[1])};
+    for (uint32_t id = lq.meta_vertices; id < n; ++id) {
+      const LatticeQuads::Point& r = lq.points[id];
+      if ((r.patches[0] != p && r.patches[1] != p) || out.placed[id] == QuadMesh::Placed::locked)
+        continue;
+      const UV q = uv_of(r);
       auto hit = locked[r.patch].locate(q, any);
       if (!hit) continue;  // stays where the relaxed map put it
       out.surface[id] = surface_point(hit->first, hit->second);
       out.placed[id] = QuadMesh::Placed::locked;
     }
   }
-  for (uint32_t id = uint32_t(meta.vertices.size()); id < next; ++id) {
+  for (uint32_t id = lq.meta_vertices; id < n; ++id) {
     if (out.placed[id] == QuadMesh::Placed::direct) ++report.direct;
     if (out.placed[id] == QuadMesh::Placed::across) ++report.across;
     if (out.placed[id] == QuadMesh::Placed::locked) ++report.locked;
   }
-  out.positions.resize(next);
-  for (uint32_t id = 0; id < next; ++id) {
+  out.positions.resize(n);
+  for (uint32_t id = 0; id < n; ++id) {
     const SurfacePoint& s = out.surface[id];
     const Tri& t = base.face(s.face);
     out.positions[id] = s.bary[0] * base.position(t[0]) + s.bary[1] * base.position(t[1]) +
@@ -307,6 +482,13 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
+                       const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout,
+                       const Param& param, ExtractReport& report) {
+  return place_quads(refined, base, labels, meta, layout, param, lattice_quads(meta, layout),
+                     report);
 }
 
 }  // namespace isoquad

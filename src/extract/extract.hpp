@@ -57,6 +57,7 @@ struct ExtractReport {
   uint32_t across = 0;  // found across a seam, through its transition
   uint32_t locked = 0;  // placed with the locked map (fallback)
   uint32_t meta = 0;    // meta-vertices (exact)
+  uint32_t quads = 0;   // quads placed: the layout's, or more where they were cut finer
   // The verifier (DESIGN.md §8.4): lattice points the relaxed map covers more than once (0 for
   // a bijective map), and patches that therefore took the locked map's geometry.
   uint32_t multiply_covered = 0;
@@ -77,6 +78,57 @@ std::vector<std::array<Vec3, 3>> fan_triangles(const QuadMesh& quads);
 // The surface's triangles in face order (triangle f is face f), for an AabbTree.
 std::vector<std::array<Vec3, 3>> face_triangles(const TriMesh& surface);
 
+// The quads' connectivity before they are placed (extraction's first half): every patch's
+// W x H lattice cells, glued through shared ids, and the points of cells cut finer since. Each
+// point has a representative place in one patch's chart, where the map locates it.
+struct LatticeQuads {
+  // Chart coordinates are integers in units of 1/kScale of the lattice, so that refined points
+  // (thirds of thirds, bilinear in their quad's corners) are exact: a quad may be cut finer
+  // kMaxLevel times.
+  static constexpr int64_t kScale = 531441;  // 9^6
+  static constexpr uint8_t kMaxLevel = 6;
+  struct Point {
+    uint32_t patch = kInvalid;                            // the chart `at` is in
+    std::array<int64_t, 2> at{0, 0};                      // in 1/kScale lattice units
+    uint32_t edge = kInvalid;                             // the meta-edge it lies on, if any
+    std::array<uint32_t, 2> patches{kInvalid, kInvalid};  // patches whose quads use it
+  };
+  uint32_t meta_vertices = 0;  // ids below are meta-vertices (their Point is unused)
+  std::vector<Point> points;
+  std::vector<std::array<uint32_t, 4>> quads;                    // CCW
+  std::vector<std::array<std::array<int64_t, 2>, 4>> corner_at;  // per quad, in its patch's chart
+  std::vector<uint32_t> quad_patch;
+  std::vector<uint8_t> level;  // per quad: how often it was cut finer (0: a lattice cell)
+  // Per patch: the meta-edge of each unit segment of its rectangle's border (side_segment).
+  std::vector<std::vector<uint32_t>> side_edge;
+  // Index of the unit segment u-v of a W x H rectangle's border (bottom, right, top, left, each
+  // from its low end), or SIZE_MAX if it is not on the border.
+  static std::size_t side_segment(int64_t W, int64_t H, Lattice u, Lattice v);
+};
+
+// The lattice cells of the layout. \throw Error(internal, E601) if a lattice point has no id.
+LatticeQuads lattice_quads(const MetaMesh& meta, const Layout& layout);
+
+// Local refinement (beyond the paper): every quad with a marked corner (`marks` per point id) is
+// cut at thirds in its chart, all of it when all four corners are marked, else by a template
+// that meets its unmarked neighbours: one marked corner, three quads; two adjacent, seven (marks
+// are first closed so that no quad has three marked corners or two opposite ones). The mesh
+// stays pure quad and conforming, with new irregular vertices (valence 3 and 5) where the
+// refinement ends. Points keep their ids; new points follow. Placed by the map, the finer quads
+// follow the surface with the method's own contour lines at a third of the spacing. Returns how
+// many quads were cut. \throw Error(internal, E602) past kMaxLevel.
+uint32_t refine_lattice_quads(LatticeQuads& quads, const Layout& layout, std::vector<char> marks);
+
+// Extraction's second half: each point located in the certified map (in its patch's faces, else
+// across the nearest seam through the transition, else in the locked map) and placed on the
+// input surface by barycentric interpolation through the refinement's provenance.
+// \pre param.certificate.ok() or param is the locked map; layout passed check_layout.
+// \throw Error(internal, E601) when a point cannot be placed at all (a bug).
+QuadMesh place_quads(const RefinedMesh& refined, const TriMesh& base,
+                     const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout,
+                     const Param& param, const LatticeQuads& quads, ExtractReport& report);
+
+// lattice_quads, then place_quads.
 // \pre param.certificate.ok() or param is the locked map; layout passed check_layout.
 // \throw Error(internal, E601) when a lattice point cannot be placed at all (a bug).
 QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,

@@ -142,6 +142,152 @@ TEST(Extract, CountsTopologyAndValencesFollowTheLayout) {
   }
 }
 
+namespace {
+
+// The cube's quads (mvc: every face's map is linear, its lattice exact) with these lattice
+// points marked, cut finer `rounds` times (each round marking the same points again, which
+// then lie in finer quads).
+struct CubeRefined {
+  Remeshed r;
+  LatticeQuads lattice;
+  QuadMesh quads;
+  uint32_t cut = 0;
+};
+
+CubeRefined refine_cube(const std::vector<uint32_t>& marked, uint32_t rounds = 1) {
+  CubeRefined c{remesh_shape(test::subdivided_cube(8), 6, 6 * 36, WeightKind::mvc), {}, {}};
+  const ComponentRun& run = c.r.run;
+  c.lattice = lattice_quads(run.seg.meta, run.layout);
+  for (uint32_t k = 0; k < rounds; ++k) {
+    std::vector<char> marks(c.lattice.points.size(), 0);
+    for (const uint32_t v : marked) marks[v] = 1;
+    c.cut += refine_lattice_quads(c.lattice, run.layout, marks);
+  }
+  ExtractReport report;
+  c.quads = place_quads(run.seg.refined, run.surface.mesh, run.seg.labels, run.seg.meta, run.layout,
+                        run.param, c.lattice, report);
+  return c;
+}
+
+PolyMesh quads_as_poly(const QuadMesh& q) {
+  PolyMesh p;
+  p.positions = q.positions;
+  for (const auto& f : q.quads) p.add_face({f[0], f[1], f[2], f[3]});
+  return p;
+}
+
+// Valid, of the cube's topology, on the cube, its quads convex (scaled Jacobian above `sj`).
+void expect_valid_on_cube(const CubeRefined& c, double sj) {
+  const PolyMesh input = component_as_poly(c.r.prep.components[0].mesh);
+  const QualityReport q = measure_quality(quads_as_poly(c.quads), &input);
+  EXPECT_TRUE(q.pure_quad);
+  EXPECT_TRUE(q.edge_manifold);
+  EXPECT_TRUE(q.vertex_manifold);
+  EXPECT_TRUE(q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_GT(q.sj_min, sj);
+  EXPECT_LT(q.hausdorff, 1e-9);
+}
+
+}  // namespace
+
+// One marked point inside a face: its four cells become three quads each (a small quad at the
+// point, two around), with a new point a third along each of its four edges and one inside each
+// cell. Those inside have valence 3, and the cells' far corners 5.
+TEST(LocalRefine, OneMarkedPointCutsItsFourCells) {
+  const CubeRefined plain = refine_cube({});
+  const uint32_t nv = uint32_t(plain.quads.positions.size()),
+                 nf = uint32_t(plain.quads.quads.size());
+  EXPECT_EQ(plain.cut, 0u);
+  // A point of patch 0 two cells from its border: its cells and their corners are inside.
+  const std::array<int64_t, 2> two{2 * LatticeQuads::kScale, 2 * LatticeQuads::kScale};
+  ASSERT_GE(plain.r.run.layout.charts[0].width, 5);
+  uint32_t inner = kInvalid;
+  for (uint32_t v = plain.lattice.meta_vertices; v < plain.lattice.points.size(); ++v)
+    if (plain.lattice.points[v].patch == 0 && plain.lattice.points[v].at == two) inner = v;
+  ASSERT_NE(inner, kInvalid);
+  const CubeRefined c = refine_cube({inner});
+  EXPECT_EQ(c.cut, 4u);
+  EXPECT_EQ(c.quads.quads.size(), nf + 4 * 2);
+  EXPECT_EQ(c.quads.positions.size(), nv + 4 + 4);
+  // The templates on a square: the worst corner is 45 or 135 degrees.
+  expect_valid_on_cube(c, std::sqrt(0.5) - 1e-9);
+  const QualityReport q = measure_quality(quads_as_poly(c.quads), nullptr);
+  EXPECT_EQ(q.valence.at(3), 8u + 4u);
+  EXPECT_EQ(q.valence.at(5), 4u);
+  // The marked point stays where it was; its small quads are a ninth of a cell.
+  EXPECT_LT(norm(c.quads.positions[inner] - plain.quads.positions[inner]), 1e-12);
+}
+
+// Two opposite corners of a cell marked: the marks are closed (all four), the cell is cut three
+// by three, its four side neighbours by the two-corner template (seven quads) and its four
+// diagonal neighbours by the one-corner template (three).
+TEST(LocalRefine, MarksAreClosedSoEveryCellHasATemplate) {
+  const CubeRefined plain = refine_cube({});
+  // A cell of patch 0 with no corner on a seam, and its diagonal corners.
+  std::array<uint32_t, 4> cell{};
+  bool found = false;
+  for (std::size_t f = 0; f < plain.lattice.quads.size() && !found; ++f) {
+    const auto& q = plain.lattice.quads[f];
+    found = std::all_of(q.begin(), q.end(), [&](uint32_t v) {
+      return v >= plain.lattice.meta_vertices && plain.lattice.points[v].edge == kInvalid;
+    });
+    if (found) cell = q;
+  }
+  ASSERT_TRUE(found);
+  const CubeRefined c = refine_cube({cell[0], cell[2]});
+  EXPECT_EQ(c.cut, 9u);
+  EXPECT_EQ(c.quads.quads.size(), plain.quads.quads.size() - 9 + 9 + 4 * 7 + 4 * 3);
+  expect_valid_on_cube(c, std::sqrt(0.5) - 1e-9);
+}
+
+// Points on seams and at a meta-vertex: the cells on both sides of a seam agree on its new
+// points, which lie on the meta-edge; cut again (a second round in the finer quads), the mesh
+// is still conforming, pure quad and on the cube.
+TEST(LocalRefine, AcrossSeamsAndAgainInFinerQuads) {
+  const CubeRefined plain = refine_cube({});
+  // A seam point two cells or more from every cube corner.
+  const auto& x = plain.quads.positions;
+  double side = 0;  // the cube's edge
+  for (uint32_t a = 0; a < plain.lattice.meta_vertices; ++a)
+    for (uint32_t b = 0; b < plain.lattice.meta_vertices; ++b)
+      side = std::max(side, norm(x[a] - x[b]));
+  side /= std::sqrt(3.0);
+  const double unit = side / double(plain.r.run.layout.charts[0].width);
+  uint32_t seam = kInvalid;
+  for (uint32_t v = plain.lattice.meta_vertices;
+       v < plain.lattice.points.size() && seam == kInvalid; ++v) {
+    if (plain.lattice.points[v].edge == kInvalid) continue;
+    bool far = true;
+    for (uint32_t m = 0; m < plain.lattice.meta_vertices; ++m)
+      far = far && norm(x[v] - x[m]) > 1.5 * unit;
+    if (far) seam = v;
+  }
+  ASSERT_NE(seam, kInvalid);
+  const CubeRefined once = refine_cube({seam, 0});
+  expect_valid_on_cube(once, 0.5);
+  // The cube corner (valence 3): its three cells; the seam point: its four, over two faces.
+  EXPECT_EQ(once.cut, 3u + 4u);
+  uint32_t on_seams = 0;
+  const TriMesh& cube = once.r.run.surface.mesh;
+  for (uint32_t v = uint32_t(plain.quads.positions.size()); v < once.quads.positions.size(); ++v) {
+    const uint32_t e = once.quads.vertex_meta_edge[v];
+    if (e == kInvalid) continue;
+    ++on_seams;
+    // On the meta-edge's polyline: two of its coordinates are the cube's +-extent.
+    const Vec3 x = once.quads.positions[v];
+    const Vec3 a = cube.position(once.r.run.seg.meta.edges[e].vertices.front());
+    const Vec3 b = cube.position(once.r.run.seg.meta.edges[e].vertices.back());
+    EXPECT_LT(norm(cross(b - a, x - a)), 1e-9 * norm(b - a));
+  }
+  // Two from the corner's three edges, and the seam point's edge a third on each side of it.
+  EXPECT_EQ(on_seams, 3u + 2u);
+  const CubeRefined twice = refine_cube({seam, 0}, 2);
+  EXPECT_GT(twice.cut, once.cut);
+  EXPECT_GT(twice.quads.quads.size(), once.quads.quads.size());
+  expect_valid_on_cube(twice, 0.2);
+}
+
 TEST(Extract, EveryVertexIsOnTheInputSurface) {
   const Remeshed r = remesh_shape(test::torus(48, 20), 0, 600);
   const TriMesh& base = r.prep.components[0].mesh;
