@@ -20,7 +20,7 @@ struct RemeshArgs {
   std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global";
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
-       split_patches = false, no_tip_split = false;
+       split_patches = false, no_tip_split = false, no_refine = false;
   uint32_t smooth = 0, fold_rounds = 2, threads = 0;
   double tolerance = RemeshOptions{}.tolerance;
   uint32_t tolerance_rounds = RemeshOptions{}.tolerance_rounds;
@@ -74,6 +74,13 @@ Runner add_remesh(CLI::App& app) {
                 "remeshed from the same patches, and the closer result with no more folded "
                 "quads is kept; from a kept result, again with its tips added, up to three "
                 "runs with tips, one new tip at a time after a run not kept)");
+  sub->add_flag("--no-refine", a->no_refine,
+                "Keep the quads as the layout made them, even where they are still farther than "
+                "1% of the bounding-box diagonal (or --tolerance) from the surface after the tip "
+                "runs (by default the quads nearest to the far points are cut at thirds in the "
+                "same map, again where still far, up to five times and to twice the quads, or "
+                "1.1 times with --quads or --edge-length; kept only if that reaches the distance "
+                "with no more folded quads: it adds irregular vertices where the finer quads end)");
   sub->add_option("--fold-rounds", a->fold_rounds,
                   "Where quads still fold after untangling, give their patches one more quad "
                   "across and solve the lengths, map and quads again, at most this often (a round "
@@ -134,6 +141,7 @@ Runner add_remesh(CLI::App& app) {
     o.fold_rounds = a->fold_rounds;
     o.split_patches = a->split_patches;
     o.tip_split = !a->no_tip_split;
+    o.refine = !a->no_refine;
     o.tolerance = a->tolerance;
     o.tolerance_rounds = a->tolerance_rounds;
     o.improve_corners = a->improve_corners;

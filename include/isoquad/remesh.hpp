@@ -34,6 +34,9 @@ struct RemeshOptions {
   // the surface vertices where they cut off a tip or bridge a valley patch corners and run
   // again; keep the closer run with no more folded quads.
   bool tip_split = true;
+  // Where the quads are still farther than that, cut the quads there at thirds in the same map,
+  // again where still far; keep that if it reaches the distance with no more folded quads.
+  bool refine = true;
   // At the default size (no quads, no edge length): remesh a component with more quads while its
   // quads are farther than this fraction of the bounding-box diagonal from the input (two-sided
   // Hausdorff), at most tolerance_rounds times and to 4 times the first count (0: off).

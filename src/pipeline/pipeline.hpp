@@ -67,6 +67,10 @@ struct PipelineOptions {
   // except one that added several tips to the kept run: then tips are added to the kept run one
   // at a time.
   bool tip_split = true;
+  // Where the quads (after the tip rounds) are still farther than the distance target, the
+  // lattice quads there are cut at thirds in the same map, again where still far; kept if that
+  // reaches the target with no more folded quads (pipeline.cpp refine_far).
+  bool refine = true;
   Stage last = Stage::extract;
 };
 
@@ -79,6 +83,14 @@ constexpr double kTipFar = 0.3, kTipSpacing = 3, kTipTarget = 0.01;
 // 1,500 quads went 3.81% -> 2.89% -> 1.80% -> 1.37% of the diagonal, mech-holes-shark at the
 // default size 2.52% -> 1.45% -> 1.19% (its third round, 4.27% and a fold, undone).
 constexpr uint32_t kTipRounds = 3;
+// Local refinement (PipelineOptions::refine): at most kRefineRounds rounds, while the quads are
+// at most kRefineGrowth times as many as before (kRefineGrowthSized times the count asked for,
+// or as many as before with an edge length asked for); a round that folds quads is tried again
+// without the marks near them, up to kRefineAttempts tries. Rounds must stay below
+// LatticeQuads::kMaxLevel.
+constexpr uint32_t kRefineRounds = 5, kRefineAttempts = 2;
+constexpr double kRefineGrowthSized = 1.1, kRefineGrowth = 2;
+static_assert(kRefineRounds < LatticeQuads::kMaxLevel);
 
 // One size tried for a component: its quads, their two-sided distance to the component over
 // the mesh's bounding-box diagonal, and how many quads were left folded.
@@ -120,6 +132,15 @@ struct ComponentRun {
   std::vector<TipRound> tip_rounds;
   uint32_t tip_round_kept = 0;
   std::vector<uint32_t> tips;
+  // PipelineOptions::refine: the quads before (marked 0) and after each round of local
+  // refinement, with the points marked, and which is the one here (0: the quads before; empty:
+  // no round, the quads were close enough).
+  struct RefineRound {
+    uint32_t marked = 0;
+    SizeRound result;
+  };
+  std::vector<RefineRound> refine_rounds;
+  uint32_t refine_round_kept = 0;
   SegmentResult seg;
   std::optional<QuadSplitReport> quad_split;  // when the patches were split into quads
   Layout layout;

@@ -39,7 +39,8 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"split_patches", o.split_patches},
           {"tolerance", o.tolerance},
           {"tolerance_rounds", o.tolerance_rounds},
-          {"tip_split", o.tip_split}};
+          {"tip_split", o.tip_split},
+          {"refine", o.refine}};
 }
 
 }  // namespace
@@ -91,6 +92,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.tolerance = opt.tolerance;
   o.tolerance_rounds = opt.tolerance_rounds;
   o.tip_split = opt.tip_split;
+  o.refine = opt.refine;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;
@@ -127,6 +129,15 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
       }
       say(fmt::format("component {}: tips split: {}", c, tried));
     }
+    if (!r.refine_rounds.empty()) {
+      std::string tried;
+      for (std::size_t k = 0; k < r.refine_rounds.size(); ++k) {
+        const auto& [marked, s] = r.refine_rounds[k];
+        tried += fmt::format("{}{} quads {:.2f}% {} folded{}", k ? " -> " : "", s.quads,
+                             100 * s.distance, s.folded, k == r.refine_round_kept ? " (kept)" : "");
+      }
+      say(fmt::format("component {}: refined where far: {}", c, tried));
+    }
     // The output is not all it should be: said, with where to look.
     if (const uint32_t n = r.untangle_report.nonpositive; n > 0) {
       std::string where;
@@ -159,8 +170,15 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     for (const auto& [tips, s] : r.tip_rounds)
       tip_runs.push_back({{"tips", tips}, {"hausdorff", s.distance}, {"folded", s.folded}});
     const nlohmann::json tips = {{"tried", tip_runs}, {"kept", r.tip_round_kept}};
+    nlohmann::json refine_runs = nlohmann::json::array();
+    for (const auto& [marked, s] : r.refine_rounds)
+      refine_runs.push_back({{"marked", marked},
+                             {"quads", s.quads},
+                             {"hausdorff", s.distance},
+                             {"folded", s.folded}});
     comps.push_back({{"component", prep.components[c].report_index},
                      {"tip_split", tips},
+                     {"refine", {{"tried", refine_runs}, {"kept", r.refine_round_kept}}},
                      {"size_rounds", {{"tried", sizes}, {"kept", r.size_round_kept}}},
                      {"subdivisions", r.subdivisions},
                      {"subdivision_retreats", r.subdivision_retreats},
@@ -215,6 +233,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"across_seam", r.extract_report.across},
                        {"locked_fallback", r.extract_report.locked},
                        {"meta_vertices", r.extract_report.meta},
+                       {"quads", r.extract_report.quads},
                        {"multiply_covered", r.extract_report.multiply_covered},
                        {"patches_locked", r.extract_report.patches_locked}}},
                      {"seconds",

@@ -169,7 +169,7 @@ CubeRefined refine_cube(const std::vector<uint32_t>& marked, uint32_t rounds = 1
   return c;
 }
 
-PolyMesh quads_as_poly(const QuadMesh& q) {
+PolyMesh as_poly(const QuadMesh& q) {
   PolyMesh p;
   p.positions = q.positions;
   for (const auto& f : q.quads) p.add_face({f[0], f[1], f[2], f[3]});
@@ -179,7 +179,7 @@ PolyMesh quads_as_poly(const QuadMesh& q) {
 // Valid, of the cube's topology, on the cube, its quads convex (scaled Jacobian above `sj`).
 void expect_valid_on_cube(const CubeRefined& c, double sj) {
   const PolyMesh input = component_as_poly(c.r.prep.components[0].mesh);
-  const QualityReport q = measure_quality(quads_as_poly(c.quads), &input);
+  const QualityReport q = measure_quality(as_poly(c.quads), &input);
   EXPECT_TRUE(q.pure_quad);
   EXPECT_TRUE(q.edge_manifold);
   EXPECT_TRUE(q.vertex_manifold);
@@ -212,7 +212,7 @@ TEST(LocalRefine, OneMarkedPointCutsItsFourCells) {
   EXPECT_EQ(c.quads.positions.size(), nv + 4 + 4);
   // The templates on a square: the worst corner is 45 or 135 degrees.
   expect_valid_on_cube(c, std::sqrt(0.5) - 1e-9);
-  const QualityReport q = measure_quality(quads_as_poly(c.quads), nullptr);
+  const QualityReport q = measure_quality(as_poly(c.quads), nullptr);
   EXPECT_EQ(q.valence.at(3), 8u + 4u);
   EXPECT_EQ(q.valence.at(5), 4u);
   // The marked point stays where it was; its small quads are a ninth of a cell.
@@ -716,13 +716,6 @@ QuadMesh grid_quads(uint32_t n) {
       q.quad_patch.push_back(0);
     }
   return q;
-}
-
-PolyMesh as_poly(const QuadMesh& q) {
-  PolyMesh p;
-  p.positions = q.positions;
-  for (const auto& f : q.quads) p.add_face({f[0], f[1], f[2], f[3]});
-  return p;
 }
 
 // Inner vertices of grid_quads(n) may move, boundary ones not.
