@@ -141,12 +141,23 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     // The output is not all it should be: said, with where to look.
     if (const uint32_t n = r.untangle_report.nonpositive; n > 0) {
       std::string where;
-      if (!r.untangle_report.folded.empty()) {
-        const auto& q = r.quads.quads[r.untangle_report.folded.front()];
+      if (!r.untangle_report.folded.empty() && r.surface_tree) {
+        // The untangler's list also holds degenerate quads (at or below kFoldedAtOrBelow)
+        // where collapses ran: the one named is the most folded, measured as the untangler
+        // does, against the surface normal just inside each corner.
+        const AabbTree& tree = *r.surface_tree;
+        uint32_t worst = r.untangle_report.folded.front();
+        double lowest = INFINITY;
+        for (const uint32_t f : r.untangle_report.folded) {
+          const double sj = quad_corner_sj(
+              r.quads, f, [&](uint32_t, const Vec3& x) { return tree.normal_at_closest(x); });
+          if (sj < lowest) lowest = sj, worst = f;
+        }
+        const auto& q = r.quads.quads[worst];
         const auto& p = r.quads.positions;
         const Vec3 x = prep.normalization.invert(0.25 * (p[q[0]] + p[q[1]] + p[q[2]] + p[q[3]]));
-        where = fmt::format(", {}near ({:.4g}, {:.4g}, {:.4g})", n == 1 ? "" : "the first ", x.x,
-                            x.y, x.z);
+        where = fmt::format(", {}near ({:.4g}, {:.4g}, {:.4g})", n == 1 ? "" : "the most folded ",
+                            x.x, x.y, x.z);
       }
       say(
           fmt::format("component {}: warning: {} quad{} still fold{} against the surface (a "

@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 #include <algorithm>
+#include <cstdio>
 
 #include <string>
 
@@ -184,7 +185,8 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   // the tip splits, 2.89% with one round; mech-holes-shark 7.1% before its lens-shaped patch got
   // a width target; knot1 2.16 -> 1.40% with tip snapping).
   EXPECT_LT(q.hausdorff, std::string(GetParam()) == "cow.off" ? 0.035 : 0.02);
-  // A folded quad left in the output is said, with its count (the cow's one).
+  // A folded quad left in the output is said, with its count (the cow's one) and where: the
+  // point named is the centre of a quad folded against the surface, as `quality` measures it.
   const auto warning = std::find_if(said.begin(), said.end(), [](const std::string& s) {
     return s.find("still fold") != std::string::npos;
   });
@@ -192,6 +194,21 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   if (warning != said.end()) {
     EXPECT_NE(warning->find(std::to_string(q.sj_surface_nonpositive) + " quad"), std::string::npos)
         << *warning;
+    Vec3 near;
+    const std::size_t at = warning->find("near (");
+    ASSERT_NE(at, std::string::npos) << *warning;
+    ASSERT_EQ(std::sscanf(warning->c_str() + at, "near (%lf, %lf, %lf)", &near.x, &near.y, &near.z),
+              3)
+        << *warning;
+    const std::vector<double> sj = surface_scaled_jacobians(quads, input.mesh);
+    std::size_t closest = 0;
+    double best = INFINITY;
+    for (std::size_t f = 0; f < quads.num_faces(); ++f) {
+      Vec3 c;
+      for (const uint32_t v : quads.face(f)) c = c + 0.25 * quads.positions[v];
+      if (norm(c - near) < best) best = norm(c - near), closest = f;
+    }
+    EXPECT_LE(sj[closest], 0.0) << "the quad named, near " << *warning;
   }
   // Every output vertex lies on the input surface (placed through provenance), as the
   // preparation triangulated it (non-planar polygons have no other surface).
