@@ -589,6 +589,9 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
       if (std::count(marks.begin(), marks.end(), 1) == 0) break;
       LatticeQuads finer = lattice;
       refine_lattice_quads(finer, run.layout, marks);
+      // Past the count already: not worth placing and untangling (the armadillo at 1,500 quads
+      // cut 2,432).
+      if (double(finer.quads.size()) > most) break;
       extract_report = {};
       QuadMesh finer_placed = place_quads(run.seg.refined, surface, run.seg.labels, run.seg.meta,
                                           run.layout, run.param, finer, extract_report);
