@@ -261,10 +261,11 @@ uint32_t refine_lattice_quads(LatticeQuads& lq, const Layout& layout, std::vecto
         for (const uint32_t id : c) changed |= !mark[id], mark[id] = 1;
     }
   }
+  // Points keep their ids (new ones follow) and the borders stay: taken over, not copied.
   LatticeQuads out;
   out.meta_vertices = lq.meta_vertices;
-  out.points = lq.points;
-  out.side_edge = lq.side_edge;
+  out.points = std::move(lq.points);
+  out.side_edge = std::move(lq.side_edge);
   // Side points are shared with the quad across the side: keyed by the side's end ids and the
   // point's third from the smaller one.
   std::map<std::tuple<uint32_t, uint32_t, int>, uint32_t> side_points;
@@ -303,7 +304,8 @@ uint32_t refine_lattice_quads(LatticeQuads& lq, const Layout& layout, std::vecto
         for (int d = 0; d < 2; ++d) x[d] += w[k] * ca[(r + k) % 4][d];
       return std::array<int64_t, 2>{x[0] / 9, x[1] / 9};
     };
-    std::map<std::array<int, 2>, uint32_t> inner;
+    std::array<uint32_t, 16> inner;  // ids of the points inside, by (s, u) in thirds
+    inner.fill(kInvalid);
     auto point = [&](std::array<int, 2> l) -> uint32_t {
       const int s = l[0], u = l[1];
       const bool s_end = s == 0 || s == 3, u_end = u == 0 || u == 3;
@@ -314,9 +316,9 @@ uint32_t refine_lattice_quads(LatticeQuads& lq, const Layout& layout, std::vecto
       pt.at = at;
       pt.patches = {p, p};
       if (!s_end && !u_end) {
-        auto [it, fresh] = inner.try_emplace(l, uint32_t(out.points.size()));
-        if (fresh) out.points.push_back(pt);
-        return it->second;
+        uint32_t& id = inner[std::size_t(4 * u + s)];
+        if (id == kInvalid) id = uint32_t(out.points.size()), out.points.push_back(pt);
+        return id;
       }
       // On a side, from local corner a towards local corner b, k thirds along.
       int a, b, k;
@@ -454,19 +456,18 @@ QuadMesh place_quads(const RefinedMesh& refined, const TriMesh& base,
   // The verifier's verdict: a patch with a lattice point covered twice is not bijective there
   // (which the certificate rules out); its lattice points, seams included, take the locked
   // map's geometry, which tiles every rectangle exactly.
-  for (uint32_t p = 0; p < np; ++p) {
-    if (!suspect[p]) continue;
-    ++report.patches_locked;
-    for (uint32_t id = lq.meta_vertices; id < n; ++id) {
-      const LatticeQuads::Point& r = lq.points[id];
-      if ((r.patches[0] != p && r.patches[1] != p) || out.placed[id] == QuadMesh::Placed::locked)
-        continue;
-      const UV q = uv_of(r);
-      auto hit = locked[r.patch].locate(q, any);
-      if (!hit) continue;  // stays where the relaxed map put it
-      out.surface[id] = surface_point(hit->first, hit->second);
-      out.placed[id] = QuadMesh::Placed::locked;
-    }
+  const uint32_t locked_patches = uint32_t(std::count(suspect.begin(), suspect.end(), 1));
+  report.patches_locked += locked_patches;
+  for (uint32_t id = lq.meta_vertices; id < n && locked_patches > 0; ++id) {
+    const LatticeQuads::Point& r = lq.points[id];
+    if ((!suspect[r.patches[0]] && !suspect[r.patches[1]]) ||
+        out.placed[id] == QuadMesh::Placed::locked)
+      continue;
+    // The id's own representative point, in its own patch's chart.
+    auto hit = locked[r.patch].locate(uv_of(r), any);
+    if (!hit) continue;  // stays where the relaxed map put it
+    out.surface[id] = surface_point(hit->first, hit->second);
+    out.placed[id] = QuadMesh::Placed::locked;
   }
   for (uint32_t id = lq.meta_vertices; id < n; ++id) {
     if (out.placed[id] == QuadMesh::Placed::direct) ++report.direct;
