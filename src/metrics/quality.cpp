@@ -10,6 +10,7 @@
 
 #include "core/element_data.hpp"
 #include "core/union_find.hpp"
+#include "core/z_order.hpp"
 #include "metrics/aabb_tree.hpp"
 
 namespace isoquad {
@@ -84,6 +85,28 @@ std::vector<std::array<Vec3, 3>> fan_triangles(const PolyMesh& m) {
   return t;
 }
 
+// The triangles' corners, each point once (a vertex is a corner of about six triangles), in the
+// order of first use.
+std::vector<Vec3> distinct_corners(const std::vector<std::array<Vec3, 3>>& tris) {
+  std::vector<uint32_t> idx(3 * tris.size());
+  for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  auto at = [&](uint32_t i) -> const Vec3& { return tris[i / 3][i % 3]; };
+  std::sort(idx.begin(), idx.end(), [&](uint32_t a, uint32_t b) {
+    const Vec3 &p = at(a), &q = at(b);
+    if (p.x != q.x) return p.x < q.x;
+    if (p.y != q.y) return p.y < q.y;
+    if (p.z != q.z) return p.z < q.z;
+    return a < b;
+  });
+  std::vector<char> first(idx.size(), 0);
+  for (std::size_t k = 0; k < idx.size(); ++k)
+    first[idx[k]] = k == 0 || !(at(idx[k]) == at(idx[k - 1]));
+  std::vector<Vec3> points;
+  for (uint32_t i = 0; i < idx.size(); ++i)
+    if (first[i]) points.push_back(at(i));
+  return points;
+}
+
 // One-sided distances from area samples (and the vertices) of `from` to `to`.
 void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTree& to,
                       uint32_t samples, uint64_t seed, double& max_d, Vec3& max_at, double& sum_d,
@@ -93,10 +116,8 @@ void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTr
     cum[i + 1] = cum[i] + 0.5 * norm(cross(from[i][1] - from[i][0], from[i][2] - from[i][0]));
   // The points first (the generator in order), then their distances in parallel, then the
   // maximum and the sum in point order: the same figures for any thread count.
-  std::vector<Vec3> points;
-  points.reserve(3 * from.size() + samples);
-  for (const auto& t : from)
-    for (const Vec3& p : t) points.push_back(p);
+  std::vector<Vec3> points = distinct_corners(from);
+  points.reserve(points.size() + samples);
   if (cum.back() > 0) {
     std::mt19937_64 rng(seed);
     auto uniform = [&] { return double(rng() >> 11) * 0x1.0p-53; };
@@ -110,9 +131,14 @@ void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTr
       points.push_back(t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]));
     }
   }
+  // Queried in Z-curve order (neighbouring queries walk the same tree nodes: input faces are
+  // often listed in no spatial order), stored in point order.
+  const std::vector<uint32_t> order = z_order(points);
   std::vector<double> d(points.size());
-  tbb::parallel_for(std::size_t(0), points.size(),
-                    [&](std::size_t i) { d[i] = to.closest(points[i]).distance; });
+  tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t k) {
+    const uint32_t i = order[k];
+    d[i] = to.closest(points[i]).distance;
+  });
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (d[i] > max_d) max_d = d[i], max_at = points[i];
     sum_d += d[i];

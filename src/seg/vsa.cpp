@@ -1,6 +1,7 @@
 #include "seg/vsa.hpp"
 
 #include "core/face_regions.hpp"
+#include "core/z_order.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -255,31 +256,9 @@ void Vsa::flood() {
 
 void Vsa::build_flood_order() {
   const uint32_t nf = m_.num_faces();
-  Box3 box;
-  for (const Vec3& c : c_) box.add(c);
-  const Vec3 extent = box.hi - box.lo;
-  const double size = std::max({extent.x, extent.y, extent.z});
-  auto spread = [](uint64_t x) {  // 21 bits to every third bit of 63
-    x &= 0x1fffff;
-    x = (x | x << 32) & 0x1f00000000ffffULL;
-    x = (x | x << 16) & 0x1f0000ff0000ffULL;
-    x = (x | x << 8) & 0x100f00f00f00f00fULL;
-    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-    x = (x | x << 2) & 0x1249249249249249ULL;
-    return x;
-  };
-  auto cell = [&](double v, double lo) {
-    return size > 0 ? uint64_t(std::clamp((v - lo) / size, 0.0, 1.0) * 2097151.0) : uint64_t(0);
-  };
-  std::vector<std::pair<uint64_t, uint32_t>> key(nf);
-  for (uint32_t f = 0; f < nf; ++f)
-    key[f] = {spread(cell(c_[f].x, box.lo.x)) | spread(cell(c_[f].y, box.lo.y)) << 1 |
-                  spread(cell(c_[f].z, box.lo.z)) << 2,
-              f};
-  std::sort(key.begin(), key.end());
-  order_.resize(nf);
+  order_ = z_order(c_);
   rank_.resize(nf);
-  for (uint32_t i = 0; i < nf; ++i) order_[i] = key[i].second, rank_[key[i].second] = i;
+  for (uint32_t i = 0; i < nf; ++i) rank_[order_[i]] = i;
   near_.resize(3 * std::size_t(nf));
   packed_.resize(nf);
   for (uint32_t i = 0; i < nf; ++i) {
