@@ -88,22 +88,25 @@ std::vector<std::array<Vec3, 3>> fan_triangles(const PolyMesh& m) {
 // The triangles' corners, each point once (a vertex is a corner of about six triangles), in the
 // order of first use.
 std::vector<Vec3> distinct_corners(const std::vector<std::array<Vec3, 3>>& tris) {
-  std::vector<uint32_t> idx(3 * tris.size());
-  for (uint32_t i = 0; i < idx.size(); ++i) idx[i] = i;
-  auto at = [&](uint32_t i) -> const Vec3& { return tris[i / 3][i % 3]; };
-  std::sort(idx.begin(), idx.end(), [&](uint32_t a, uint32_t b) {
-    const Vec3 &p = at(a), &q = at(b);
-    if (p.x != q.x) return p.x < q.x;
-    if (p.y != q.y) return p.y < q.y;
-    if (p.z != q.z) return p.z < q.z;
-    return a < b;
-  });
-  std::vector<char> first(idx.size(), 0);
-  for (std::size_t k = 0; k < idx.size(); ++k)
-    first[idx[k]] = k == 0 || !(at(idx[k]) == at(idx[k - 1]));
+  // Sorted by value, not through indices: a third of the time on bunny00's 226k corners.
+  struct Corner {
+    Vec3 p;
+    uint32_t i;
+    bool operator<(const Corner& o) const {
+      if (p.x != o.p.x) return p.x < o.p.x;
+      if (p.y != o.p.y) return p.y < o.p.y;
+      if (p.z != o.p.z) return p.z < o.p.z;
+      return i < o.i;
+    }
+  };
+  std::vector<Corner> c(3 * tris.size());
+  for (uint32_t i = 0; i < c.size(); ++i) c[i] = {tris[i / 3][i % 3], i};
+  std::sort(c.begin(), c.end());
+  std::vector<char> first(c.size(), 0);
+  for (std::size_t k = 0; k < c.size(); ++k) first[c[k].i] = k == 0 || !(c[k].p == c[k - 1].p);
   std::vector<Vec3> points;
-  for (uint32_t i = 0; i < idx.size(); ++i)
-    if (first[i]) points.push_back(at(i));
+  for (uint32_t i = 0; i < c.size(); ++i)
+    if (first[i]) points.push_back(tris[i / 3][i % 3]);
   return points;
 }
 
