@@ -20,7 +20,7 @@ struct RemeshArgs {
   std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global";
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
-       split_patches = false, no_tip_split = false, no_refine = false;
+       split_patches = false, no_tip_split = false, no_refine = false, no_patch_rounds = false;
   uint32_t smooth = 0, fold_rounds = 2, threads = 0;
   double tolerance = RemeshOptions{}.tolerance;
   uint32_t tolerance_rounds = RemeshOptions{}.tolerance_rounds;
@@ -81,6 +81,12 @@ Runner add_remesh(CLI::App& app) {
                 "same map, again where still far, up to five times and to twice the quads, or "
                 "1.1 times with --quads or --edge-length; kept only if that reaches the distance "
                 "with no more folded quads: it adds irregular vertices where the finer quads end)");
+  sub->add_flag("--no-patch-rounds", a->no_patch_rounds,
+                "Keep the automatic patch count, even where the quads are still farther than 1% "
+                "of the bounding-box diagonal (or --tolerance) after the tip runs and the "
+                "refinement (by default, unless --patches or --quads is given, the component "
+                "runs again with 1.5, then 2 times as many patches at the same size, and the "
+                "first run that reaches the distance with no more folded quads is kept)");
   sub->add_option("--fold-rounds", a->fold_rounds,
                   "Where quads still fold after untangling, give their patches one more quad "
                   "across and solve the lengths, map and quads again, at most this often (a round "
@@ -142,6 +148,7 @@ Runner add_remesh(CLI::App& app) {
     o.split_patches = a->split_patches;
     o.tip_split = !a->no_tip_split;
     o.refine = !a->no_refine;
+    o.patch_rounds = !a->no_patch_rounds;
     o.tolerance = a->tolerance;
     o.tolerance_rounds = a->tolerance_rounds;
     o.improve_corners = a->improve_corners;

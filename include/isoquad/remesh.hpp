@@ -37,6 +37,10 @@ struct RemeshOptions {
   // Where the quads are still farther than that, cut the quads there at thirds in the same map,
   // again where still far; keep that if it reaches the distance with no more folded quads.
   bool refine = true;
+  // Unless --patches or --quads is given: where the result is still farther than the distance
+  // target, run again with 1.5 and then 2 times the automatic patch count (the first to reach it
+  // with no more folded quads is kept).
+  bool patch_rounds = true;
   // At the default size (no quads, no edge length): remesh a component with more quads while its
   // quads are farther than this fraction of the bounding-box diagonal from the input (two-sided
   // Hausdorff), at most tolerance_rounds times and to 4 times the first count (0: off).

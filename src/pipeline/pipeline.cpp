@@ -551,6 +551,8 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
   const QualityOptions measure;
   SurfaceDistance d =
       surface_distance(fan_triangles(run.quads), tree, measure.samples, measure.seed);
+  run.measured =
+      SizeRound{run.quads.quads.size(), d.max / diagonal, run.untangle_report.nonpositive};
   if (d.max <= target) return;
   const auto t0 = Clock::now();
   const TriMesh& surface = run.surface.mesh;
@@ -638,11 +640,12 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
     latest = std::move(quads);
   }
   run.extract_seconds = seconds_before + seconds_since(t0);
+  run.measured = rounds[run.refine_round_kept].result;
   run.refine_rounds = std::move(rounds);
 }
 
-// The component at the size `o` asks for.
-ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
+// The component at the size `o` asks for, with the patch count it asks for (or VSA's).
+ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
   double total_area = 0;
   for (const auto& comp : prep.components) total_area += surface_area(comp.mesh);
   const PreparedComponent& comp = prep.components.at(c);
@@ -681,6 +684,54 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
       ++run.subdivision_retreats;
     }
   }
+}
+
+// The component at the size `o` asks for; with PipelineOptions::patch_rounds, again with more
+// patches while it is farther than the distance target.
+ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
+  ComponentRun run = run_sized_once(prep, c, o);
+  if (!o.patch_rounds || o.patches > 0 || o.quads > 0 || o.last != Stage::extract ||
+      run.quads.quads.empty())
+    return run;
+  const double diagonal = mesh_diagonal(prep);
+  const double target = o.tolerance > 0 ? o.tolerance : kTipTarget;
+  auto result_of = [&](ComponentRun& r) {
+    if (!r.measured) r.measured = measure_run(r, surface_tree(r), diagonal);
+    return *r.measured;
+  };
+  const SizeRound first = result_of(run);
+  if (first.distance <= target) return run;
+  const uint32_t automatic = run.seg.vsa_patches;
+  std::vector<ComponentRun::PatchRound> rounds{{automatic, first}};
+  uint32_t kept = 0;
+  // Seconds of the runs not kept, added to the kept run's stages so they sum to the time spent.
+  double segment_s = 0, layout_s = 0, param_s = 0, extract_s = 0;
+  for (const double growth : kPatchGrowth) {
+    PipelineOptions more = o;
+    more.patches = uint32_t(std::ceil(growth * automatic));
+    std::optional<ComponentRun> again;
+    try {
+      again = run_sized_once(prep, c, more);
+    } catch (const Error&) {
+      continue;  // the runs before stand
+    }
+    const SizeRound r = result_of(*again);
+    rounds.push_back({again->seg.vsa_patches, r});
+    const bool reached = r.distance <= target && r.folded <= first.folded;
+    const ComponentRun& loser = reached ? run : *again;
+    segment_s += loser.segment_seconds, layout_s += loser.layout_seconds;
+    param_s += loser.param_seconds, extract_s += loser.extract_seconds;
+    if (reached) {
+      run = std::move(*again);
+      kept = uint32_t(rounds.size() - 1);
+      break;
+    }
+  }
+  run.segment_seconds += segment_s, run.layout_seconds += layout_s;
+  run.param_seconds += param_s, run.extract_seconds += extract_s;
+  run.patch_rounds = std::move(rounds);
+  run.patch_round_kept = kept;
+  return run;
 }
 
 }  // namespace

@@ -40,7 +40,8 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"tolerance", o.tolerance},
           {"tolerance_rounds", o.tolerance_rounds},
           {"tip_split", o.tip_split},
-          {"refine", o.refine}};
+          {"refine", o.refine},
+          {"patch_rounds", o.patch_rounds}};
 }
 
 }  // namespace
@@ -93,6 +94,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.tolerance_rounds = opt.tolerance_rounds;
   o.tip_split = opt.tip_split;
   o.refine = opt.refine;
+  o.patch_rounds = opt.patch_rounds;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;
@@ -137,6 +139,15 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                              100 * s.distance, s.folded, k == r.refine_round_kept ? " (kept)" : "");
       }
       say(fmt::format("component {}: refined where far: {}", c, tried));
+    }
+    if (!r.patch_rounds.empty()) {
+      std::string tried;
+      for (std::size_t k = 0; k < r.patch_rounds.size(); ++k) {
+        const auto& [patches, s] = r.patch_rounds[k];
+        tried += fmt::format("{}{} patches {:.2f}% {} folded{}", k ? " -> " : "", patches,
+                             100 * s.distance, s.folded, k == r.patch_round_kept ? " (kept)" : "");
+      }
+      say(fmt::format("component {}: more patches: {}", c, tried));
     }
     // The output is not all it should be: said, with where to look.
     if (const uint32_t n = r.untangle_report.nonpositive; n > 0) {
@@ -187,9 +198,16 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                              {"quads", s.quads},
                              {"hausdorff", s.distance},
                              {"folded", s.folded}});
+    nlohmann::json patch_runs = nlohmann::json::array();
+    for (const auto& [patches, s] : r.patch_rounds)
+      patch_runs.push_back({{"patches", patches},
+                            {"quads", s.quads},
+                            {"hausdorff", s.distance},
+                            {"folded", s.folded}});
     comps.push_back({{"component", prep.components[c].report_index},
                      {"tip_split", tips},
                      {"refine", {{"tried", refine_runs}, {"kept", r.refine_round_kept}}},
+                     {"patch_rounds", {{"tried", patch_runs}, {"kept", r.patch_round_kept}}},
                      {"size_rounds", {{"tried", sizes}, {"kept", r.size_round_kept}}},
                      {"subdivisions", r.subdivisions},
                      {"subdivision_retreats", r.subdivision_retreats},

@@ -264,10 +264,12 @@ TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   expect_tip_split_kept_only_if_better(run, q);
   EXPECT_GT(shortest_edge(quads), 1e-6);
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
-  // The farthest are the cow 2.32% (2.55% with one round of tips) and the elephant 2.20% (3.0%
-  // before tip snapping; the elephant 3.8% before the raised request; mech-holes-shark 7.3%
-  // before the width targets, 2.52% before the tip splits, 1.19% now). 13 of 19 are within 1%.
-  EXPECT_LT(q.hausdorff, 0.025);
+  // Within 1% but the cow, 2.32% (2.55% with one round of tips; its runs with more patches
+  // fold a quad). The elephant was 2.20% before the patch rounds (3.0% before tip snapping, 3.8%
+  // before the raised request), 0.89% with 1.5 times its patches; mech-holes-shark 7.3% before
+  // the width targets, 2.52% before the tip splits, 1.19% before the patch rounds, 0.99% with
+  // twice its patches.
+  EXPECT_LT(q.hausdorff, std::string(GetParam()) == "cow.off" ? 0.025 : 0.01);
   RecordProperty("quads", int(quads.num_faces()));
   RecordProperty("sj_surface_nonpositive", int(q.sj_surface_nonpositive));
   RecordProperty("hausdorff_permille", int(1000 * q.hausdorff));
@@ -325,6 +327,7 @@ TEST(CorpusTipSplit, CutOffArmEndBecomesACorner) {
   RemeshOptions o;
   o.tip_split = false;
   o.refine = false;
+  o.patch_rounds = false;
   const RemeshRun once = remesh_run(input.mesh, o, input.unshared_vertices);
   ASSERT_EQ(once.runs.size(), 1u);
   EXPECT_TRUE(once.runs[0].tips.empty());
@@ -355,6 +358,7 @@ TEST(CorpusRefine, FarQuadsCutFinerReachTheTarget) {
   const ReadResult input = read_mesh(path);
   RemeshOptions o;
   o.refine = false;
+  o.patch_rounds = false;
   const RemeshRun once = remesh_run(input.mesh, o, input.unshared_vertices);
   ASSERT_EQ(once.runs.size(), 1u);
   EXPECT_TRUE(once.runs[0].refine_rounds.empty());
@@ -380,6 +384,52 @@ TEST(CorpusRefine, FarQuadsCutFinerReachTheTarget) {
   const AabbTree tree(face_triangles(run.prep.components[0].mesh));
   for (const ComponentRun& c : run.runs)
     for (const Vec3& p : c.quads.positions) EXPECT_LT(tree.closest(p).distance, 1e-9);
+}
+
+// mech-holes-shark at the default size: after its tip runs and the refinement its quads are
+// still 1.19% of the diagonal from the surface (16 patches crowd the map at its sawtooth rims).
+// The patch rounds run it again with 1.5 and 2 times the patches; the first within 1% with no
+// more folded quads is kept (32 patches, 0.99%, when this was written).
+TEST(CorpusPatchRounds, MorePatchesReachTheTarget) {
+  ISOQUAD_CORPUS_MESH(path, "mech-holes-shark.off");
+  const ReadResult input = read_mesh(path);
+  RemeshOptions o;
+  o.patch_rounds = false;
+  const RemeshRun once = remesh_run(input.mesh, o, input.unshared_vertices);
+  ASSERT_EQ(once.runs.size(), 1u);
+  EXPECT_TRUE(once.runs[0].patch_rounds.empty());
+  const QualityReport before = measure_quality(once.result.quads, &input.mesh);
+  ASSERT_GT(before.hausdorff, kTipTarget);
+  const RemeshRun run = remesh_run(input.mesh, RemeshOptions{}, input.unshared_vertices);
+  const ComponentRun& r = run.runs.at(0);
+  const auto& rounds = r.patch_rounds;
+  ASSERT_GE(r.patch_round_kept, 1u);
+  // The first round is the run without: its VSA patches and quads.
+  EXPECT_EQ(rounds.at(0).patches, once.runs[0].seg.vsa_patches);
+  EXPECT_EQ(rounds[0].result.quads, once.result.quads.num_faces());
+  EXPECT_NEAR(rounds[0].result.distance, before.hausdorff, 0.02 * before.hausdorff);
+  // More patches each round; the kept one is the last, within the target, with no more folds.
+  for (std::size_t k = 1; k < rounds.size(); ++k)
+    EXPECT_GT(rounds[k].patches, rounds[k - 1].patches);
+  EXPECT_EQ(r.patch_round_kept + 1, rounds.size());
+  EXPECT_EQ(r.seg.vsa_patches, rounds.back().patches);
+  EXPECT_LE(rounds.back().result.distance, kTipTarget);
+  EXPECT_LE(rounds.back().result.folded, rounds[0].result.folded);
+  EXPECT_EQ(rounds.back().result.quads, run.result.quads.num_faces());
+  const QualityReport q = measure_quality(run.result.quads, &input.mesh);
+  EXPECT_TRUE(q.pure_quad);
+  EXPECT_TRUE(q.edge_manifold);
+  EXPECT_TRUE(q.vertex_manifold);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  EXPECT_LT(q.hausdorff, kTipTarget);
+  EXPECT_LT(q.hausdorff, before.hausdorff);
+  const AabbTree tree(face_triangles(run.prep.components[0].mesh));
+  for (const Vec3& p : r.quads.positions) EXPECT_LT(tree.closest(p).distance, 1e-9);
+  // With a patch count asked for, there are no rounds.
+  RemeshOptions fixed;
+  fixed.patches = once.runs[0].seg.vsa_patches;
+  EXPECT_TRUE(remesh_run(input.mesh, fixed, input.unshared_vertices).runs[0].patch_rounds.empty());
 }
 
 // Subdivision stops before a level would take the surface past 250,000 faces: rotor (1,200

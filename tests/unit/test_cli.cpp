@@ -442,8 +442,9 @@ TEST(Cli, ToleranceRemeshesFinerAtTheDefaultSize) {
   const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
   const auto out = std::filesystem::temp_directory_path() /
                    ("isoquad_cli_tolerance_" + std::to_string(::getpid()) + ".obj");
-  const CliRun a = run("remesh " + sphere + " -o " + out.string() +
-                       " --tolerance 0.004 --tolerance-rounds 1 --no-refine --json");
+  const CliRun a =
+      run("remesh " + sphere + " -o " + out.string() +
+          " --tolerance 0.004 --tolerance-rounds 1 --no-refine --no-patch-rounds --json");
   ASSERT_EQ(a.status, 0) << a.err;
   const auto j = nlohmann::json::parse(a.out);
   const auto& sizes = j["components"][0]["size_rounds"];
