@@ -451,6 +451,20 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
 
 namespace {
 
+// Seconds of the runs tried and not kept, added to the kept run's stages so that they sum to the
+// time spent.
+struct UnkeptSeconds {
+  double segment = 0, layout = 0, param = 0, extract = 0;
+  void add(const ComponentRun& r) {
+    segment += r.segment_seconds, layout += r.layout_seconds;
+    param += r.param_seconds, extract += r.extract_seconds;
+  }
+  void charge(ComponentRun& r) const {
+    r.segment_seconds += segment, r.layout_seconds += layout;
+    r.param_seconds += param, r.extract_seconds += extract;
+  }
+};
+
 // PipelineOptions::tip_split: the run again with the tips of `run` made meta-vertices, from
 // the same VSA partition; the closer run with no more folded quads is kept. Then the tips of
 // the kept run are added to those, and so on, at most kTipRounds runs with tips. After a run
@@ -464,8 +478,7 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
   const double target = o.tolerance > 0 ? o.tolerance : kTipTarget;
   std::vector<ComponentRun::TipRound> rounds;
   uint32_t kept = 0;
-  // Seconds of the runs not kept, added to the kept run's stages so they sum to the time spent.
-  double segment_s = 0, layout_s = 0, param_s = 0, extract_s = 0;
+  UnkeptSeconds unkept;
   bool one_at_a_time = false;
   std::optional<ComponentRun> latest;  // a run not kept that the next one starts from
   while (rounds.size() <= kTipRounds) {
@@ -508,8 +521,7 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
     const SizeRound& best = rounds[kept].result;
     const bool better = r.folded <= best.folded && r.distance < best.distance;
     const ComponentRun& loser = better ? run : again;
-    segment_s += loser.segment_seconds, layout_s += loser.layout_seconds;
-    param_s += loser.param_seconds, extract_s += loser.extract_seconds;
+    unkept.add(loser);
     if (better) {
       kept = uint32_t(rounds.size() - 1);
       run = std::move(again);
@@ -527,8 +539,7 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
       latest = std::move(again);
     }
   }
-  run.segment_seconds += segment_s, run.layout_seconds += layout_s;
-  run.param_seconds += param_s, run.extract_seconds += extract_s;
+  unkept.charge(run);
   run.tip_rounds = std::move(rounds);
   run.tip_round_kept = kept;
 }
@@ -704,8 +715,7 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
   const uint32_t automatic = run.seg.vsa_patches;
   std::vector<ComponentRun::PatchRound> rounds{{automatic, first}};
   uint32_t kept = 0;
-  // Seconds of the runs not kept, added to the kept run's stages so they sum to the time spent.
-  double segment_s = 0, layout_s = 0, param_s = 0, extract_s = 0;
+  UnkeptSeconds unkept;
   for (const double growth : kPatchGrowth) {
     PipelineOptions more = o;
     more.patches = uint32_t(std::ceil(growth * automatic));
@@ -719,16 +729,14 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
     rounds.push_back({again->seg.vsa_patches, r});
     const bool reached = r.distance <= target && r.folded <= first.folded;
     const ComponentRun& loser = reached ? run : *again;
-    segment_s += loser.segment_seconds, layout_s += loser.layout_seconds;
-    param_s += loser.param_seconds, extract_s += loser.extract_seconds;
+    unkept.add(loser);
     if (reached) {
       run = std::move(*again);
       kept = uint32_t(rounds.size() - 1);
       break;
     }
   }
-  run.segment_seconds += segment_s, run.layout_seconds += layout_s;
-  run.param_seconds += param_s, run.extract_seconds += extract_s;
+  unkept.charge(run);
   run.patch_rounds = std::move(rounds);
   run.patch_round_kept = kept;
   return run;
@@ -748,8 +756,7 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   uint32_t kept = 0;
   const double first = double(rounds[0].quads);
   double quads = first;
-  // Seconds of the runs not kept, added to the kept run's stages so they sum to the time spent.
-  double segment_s = 0, layout_s = 0, param_s = 0, extract_s = 0;
+  UnkeptSeconds unkept;
   for (uint32_t i = 0; i < o.tolerance_rounds && rounds.back().distance > o.tolerance; ++i) {
     // The farthest points are mostly where quads are too big for the shape (a patch's facing
     // sides made equal), not chords of a smooth curve, so the distance falls about with h:
@@ -771,15 +778,13 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
     rounds.push_back(r);
     const bool better = r.folded <= rounds[kept].folded && r.distance < rounds[kept].distance;
     const ComponentRun& loser = better ? run : *candidate;
-    segment_s += loser.segment_seconds, layout_s += loser.layout_seconds;
-    param_s += loser.param_seconds, extract_s += loser.extract_seconds;
+    unkept.add(loser);
     if (better) {
       run = std::move(*candidate);
       kept = uint32_t(rounds.size() - 1);
     }
   }
-  run.segment_seconds += segment_s, run.layout_seconds += layout_s;
-  run.param_seconds += param_s, run.extract_seconds += extract_s;
+  unkept.charge(run);
   run.size_rounds = std::move(rounds);
   run.size_round_kept = kept;
   return run;
