@@ -73,7 +73,8 @@ Runner add_remesh(CLI::App& app) {
                 "where they cut off a tip or bridge a valley become patch corners, the mesh is "
                 "remeshed from the same patches, and the closer result with no more folded "
                 "quads is kept; from a kept result, again with its tips added, up to three "
-                "runs with tips, one new tip at a time after a run not kept)");
+                "runs with tips, one new tip at a time after a run not kept; with --quads N, "
+                "no run with more than 1.1 N quads is kept)");
   sub->add_flag("--no-refine", a->no_refine,
                 "Keep the quads as the layout made them, even where they are still farther than "
                 "1% of the bounding-box diagonal (or --tolerance) from the surface after the tip "

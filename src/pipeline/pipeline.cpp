@@ -519,7 +519,12 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
     const SizeRound r = measure_run(again, surface, diagonal);
     rounds.push_back({uint32_t(again.tips.size()), r});
     const SizeRound& best = rounds[kept].result;
-    const bool better = r.folded <= best.folded && r.distance < best.distance;
+    // With a count asked for, not past it (unless the run without tips is past it already).
+    const double most = o.quads > 0 ? std::max(kCountSlack * o.quads * run.area_share,
+                                               double(rounds[0].result.quads))
+                                    : INFINITY;
+    const bool better =
+        r.folded <= best.folded && r.distance < best.distance && double(r.quads) <= most;
     const ComponentRun& loser = better ? run : again;
     unkept.add(loser);
     if (better) {

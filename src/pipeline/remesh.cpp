@@ -190,7 +190,8 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     // Distances over the mesh's bounding-box diagonal.
     nlohmann::json tip_runs = nlohmann::json::array();
     for (const auto& [tips, s] : r.tip_rounds)
-      tip_runs.push_back({{"tips", tips}, {"hausdorff", s.distance}, {"folded", s.folded}});
+      tip_runs.push_back(
+          {{"tips", tips}, {"quads", s.quads}, {"hausdorff", s.distance}, {"folded", s.folded}});
     const nlohmann::json tips = {{"tried", tip_runs}, {"kept", r.tip_round_kept}};
     nlohmann::json refine_runs = nlohmann::json::array();
     for (const auto& [marked, s] : r.refine_rounds)

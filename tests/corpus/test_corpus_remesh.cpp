@@ -432,6 +432,37 @@ TEST(CorpusPatchRounds, MorePatchesReachTheTarget) {
   EXPECT_TRUE(remesh_run(input.mesh, fixed, input.unshared_vertices).runs[0].patch_rounds.empty());
 }
 
+// The hand at 800 quads: its run without tips has 820 quads, 3.07% from the surface; with four
+// tips as patch corners it came to 1,149 quads (2.24%), and with nine to 1,185 (1.51%), far past
+// the count asked for. Tip runs past 1.1 times the count are not kept (788 quads, 2.46%, with
+// one tip when this was written).
+TEST(CorpusTipSplit, TipRunsKeepTheCountAskedFor) {
+  ISOQUAD_CORPUS_MESH(path, "hand.off");
+  const ReadResult input = read_mesh(path);
+  RemeshOptions o;
+  o.quads = 800;
+  const RemeshRun run = remesh_run(input.mesh, o, input.unshared_vertices);
+  const ComponentRun& r = run.runs.at(0);
+  const auto& rounds = r.tip_rounds;
+  ASSERT_GE(rounds.size(), 2u);
+  // Some tip run went past the count (this is what the test is about)...
+  EXPECT_TRUE(std::any_of(rounds.begin(), rounds.end(), [&](const auto& t) {
+    return double(t.result.quads) > kCountSlack * 800;
+  }));
+  // ...and the kept one is within it.
+  EXPECT_LE(double(rounds.at(r.tip_round_kept).result.quads), kCountSlack * 800);
+  const PolyMesh& quads = run.result.quads;
+  EXPECT_GE(double(quads.num_faces()), 0.9 * 800);
+  EXPECT_LE(double(quads.num_faces()), kCountSlack * 800);
+  const QualityReport q = measure_quality(quads, &input.mesh);
+  EXPECT_TRUE(q.pure_quad);
+  EXPECT_TRUE(q.edge_manifold);
+  EXPECT_TRUE(q.vertex_manifold);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  EXPECT_LT(q.hausdorff, rounds[0].result.distance);
+}
+
 // Subdivision stops before a level would take the surface past 250,000 faces: rotor (1,200
 // faces) at 10,000 quads wants 80,000 triangles and gets 3 levels, 76,800 (a fourth level made
 // 307,200, and the run took minutes instead of seconds).
