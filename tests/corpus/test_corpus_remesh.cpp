@@ -48,6 +48,33 @@ double shortest_edge(const PolyMesh& quads) {
   return shortest / box.diagonal();
 }
 
+// The output's quality against the input, and the validity every output must have: pure quad,
+// manifold, of the input's topology, no quad folded against the surface.
+QualityReport expect_valid_output(const PolyMesh& quads, const ReadResult& input) {
+  const QualityReport q = measure_quality(quads, &input.mesh);
+  EXPECT_TRUE(q.pure_quad);
+  EXPECT_TRUE(q.edge_manifold);
+  EXPECT_TRUE(q.vertex_manifold);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  return q;
+}
+
+// A run at the default size with one later step turned off by `off`, on one component, and its
+// distance to the input: what the test of that step compares the default run with.
+struct Without {
+  RemeshRun run;
+  QualityReport quality;
+};
+Without remesh_without(const ReadResult& input, void (*off)(RemeshOptions&)) {
+  RemeshOptions o;
+  off(o);
+  Without w{remesh_run(input.mesh, o, input.unshared_vertices), {}};
+  EXPECT_EQ(w.run.runs.size(), 1u);
+  w.quality = measure_quality(w.run.result.quads, &input.mesh);
+  return w;
+}
+
 // Each run with tips split is kept only when it is closer than the run kept before it with no
 // more folds. Each run starts from the kept run, or from the run before it when that was not
 // kept (unless it added several tips to the kept run: then the rounds go back to the kept run
@@ -324,14 +351,14 @@ TEST(CorpusQuadSplit, FourSidedPatchesGiveAValidMesh) {
 TEST(CorpusTipSplit, CutOffArmEndBecomesACorner) {
   ISOQUAD_CORPUS_MESH(path, "cactus.off");
   const ReadResult input = read_mesh(path);
-  RemeshOptions o;
-  o.tip_split = false;
-  o.refine = false;
-  o.patch_rounds = false;
-  const RemeshRun once = remesh_run(input.mesh, o, input.unshared_vertices);
-  ASSERT_EQ(once.runs.size(), 1u);
-  EXPECT_TRUE(once.runs[0].tips.empty());
-  const double before = measure_quality(once.result.quads, &input.mesh).hausdorff;
+  const Without w = remesh_without(input, [](RemeshOptions& o) {
+    o.tip_split = false;
+    o.refine = false;
+    o.patch_rounds = false;
+  });
+  const RemeshRun& once = w.run;
+  EXPECT_TRUE(once.runs.at(0).tips.empty());
+  const double before = w.quality.hausdorff;
   const RemeshRun run = remesh_run(input.mesh, RemeshOptions{}, input.unshared_vertices);
   const ComponentRun& r = run.runs.at(0);
   ASSERT_FALSE(r.tips.empty());
@@ -356,25 +383,20 @@ TEST(CorpusTipSplit, CutOffArmEndBecomesACorner) {
 TEST(CorpusRefine, FarQuadsCutFinerReachTheTarget) {
   ISOQUAD_CORPUS_MESH(path, "eight.off");
   const ReadResult input = read_mesh(path);
-  RemeshOptions o;
-  o.refine = false;
-  o.patch_rounds = false;
-  const RemeshRun once = remesh_run(input.mesh, o, input.unshared_vertices);
-  ASSERT_EQ(once.runs.size(), 1u);
-  EXPECT_TRUE(once.runs[0].refine_rounds.empty());
-  const QualityReport before = measure_quality(once.result.quads, &input.mesh);
+  const Without w = remesh_without(input, [](RemeshOptions& o) {
+    o.refine = false;
+    o.patch_rounds = false;
+  });
+  const RemeshRun& once = w.run;
+  EXPECT_TRUE(once.runs.at(0).refine_rounds.empty());
+  const QualityReport& before = w.quality;
   ASSERT_GT(before.hausdorff, kTipTarget);
   const RemeshRun run = remesh_run(input.mesh, RemeshOptions{}, input.unshared_vertices);
   const ComponentRun& r = run.runs.at(0);
   ASSERT_GE(r.refine_round_kept, 1u);
   // Its first figures are the unrefined run's.
   EXPECT_EQ(r.refine_rounds.at(0).result.quads, once.result.quads.num_faces());
-  const QualityReport q = measure_quality(run.result.quads, &input.mesh);
-  EXPECT_TRUE(q.pure_quad);
-  EXPECT_TRUE(q.edge_manifold);
-  EXPECT_TRUE(q.vertex_manifold);
-  EXPECT_TRUE(q.same_topology);
-  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  const QualityReport q = expect_valid_output(run.result.quads, input);
   EXPECT_LT(q.hausdorff, kTipTarget);
   EXPECT_GT(run.result.quads.num_faces(), once.result.quads.num_faces());
   EXPECT_LT(double(run.result.quads.num_faces()), 1.2 * double(once.result.quads.num_faces()));
@@ -393,12 +415,10 @@ TEST(CorpusRefine, FarQuadsCutFinerReachTheTarget) {
 TEST(CorpusPatchRounds, MorePatchesReachTheTarget) {
   ISOQUAD_CORPUS_MESH(path, "mech-holes-shark.off");
   const ReadResult input = read_mesh(path);
-  RemeshOptions o;
-  o.patch_rounds = false;
-  const RemeshRun once = remesh_run(input.mesh, o, input.unshared_vertices);
-  ASSERT_EQ(once.runs.size(), 1u);
-  EXPECT_TRUE(once.runs[0].patch_rounds.empty());
-  const QualityReport before = measure_quality(once.result.quads, &input.mesh);
+  const Without w = remesh_without(input, [](RemeshOptions& o) { o.patch_rounds = false; });
+  const RemeshRun& once = w.run;
+  EXPECT_TRUE(once.runs.at(0).patch_rounds.empty());
+  const QualityReport& before = w.quality;
   ASSERT_GT(before.hausdorff, kTipTarget);
   const RemeshRun run = remesh_run(input.mesh, RemeshOptions{}, input.unshared_vertices);
   const ComponentRun& r = run.runs.at(0);
@@ -416,12 +436,7 @@ TEST(CorpusPatchRounds, MorePatchesReachTheTarget) {
   EXPECT_LE(rounds.back().result.distance, kTipTarget);
   EXPECT_LE(rounds.back().result.folded, rounds[0].result.folded);
   EXPECT_EQ(rounds.back().result.quads, run.result.quads.num_faces());
-  const QualityReport q = measure_quality(run.result.quads, &input.mesh);
-  EXPECT_TRUE(q.pure_quad);
-  EXPECT_TRUE(q.edge_manifold);
-  EXPECT_TRUE(q.vertex_manifold);
-  EXPECT_TRUE(q.same_topology);
-  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  const QualityReport q = expect_valid_output(run.result.quads, input);
   EXPECT_LT(q.hausdorff, kTipTarget);
   EXPECT_LT(q.hausdorff, before.hausdorff);
   const AabbTree tree(face_triangles(run.prep.components[0].mesh));
@@ -454,12 +469,7 @@ TEST(CorpusTipSplit, TipRunsKeepTheCountAskedFor) {
   const PolyMesh& quads = run.result.quads;
   EXPECT_GE(double(quads.num_faces()), 0.9 * 800);
   EXPECT_LE(double(quads.num_faces()), kCountSlack * 800);
-  const QualityReport q = measure_quality(quads, &input.mesh);
-  EXPECT_TRUE(q.pure_quad);
-  EXPECT_TRUE(q.edge_manifold);
-  EXPECT_TRUE(q.vertex_manifold);
-  EXPECT_TRUE(q.same_topology);
-  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  const QualityReport q = expect_valid_output(quads, input);
   EXPECT_LT(q.hausdorff, rounds[0].result.distance);
 }
 
