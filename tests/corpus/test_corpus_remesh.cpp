@@ -420,10 +420,23 @@ TEST(CorpusPatchRounds, MorePatchesReachTheTarget) {
   EXPECT_TRUE(once.runs.at(0).patch_rounds.empty());
   const QualityReport& before = w.quality;
   ASSERT_GT(before.hausdorff, kTipTarget);
-  const RemeshRun run = remesh_run(input.mesh, RemeshOptions{}, input.unshared_vertices);
+  std::string progress;
+  const RemeshRun run = remesh_run(input.mesh, RemeshOptions{}, input.unshared_vertices,
+                                   [&](const std::string& line) { progress += line + "\n"; });
   const ComponentRun& r = run.runs.at(0);
   const auto& rounds = r.patch_rounds;
   ASSERT_GE(r.patch_round_kept, 1u);
+  // The JSON and the progress say the same.
+  const auto tried = nlohmann::json::parse(run.result.report)["components"][0]["patch_rounds"];
+  EXPECT_EQ(tried["kept"].get<std::size_t>(), r.patch_round_kept);
+  ASSERT_EQ(tried["tried"].size(), rounds.size());
+  for (std::size_t k = 0; k < rounds.size(); ++k) {
+    EXPECT_EQ(tried["tried"][k]["patches"].get<uint32_t>(), rounds[k].patches);
+    EXPECT_EQ(tried["tried"][k]["quads"].get<uint64_t>(), rounds[k].result.quads);
+  }
+  EXPECT_NE(progress.find("more patches: " + std::to_string(rounds[0].patches) + " patches"),
+            std::string::npos)
+      << progress;
   // The first round is the run without: its VSA patches and quads.
   EXPECT_EQ(rounds.at(0).patches, once.runs[0].seg.vsa_patches);
   EXPECT_EQ(rounds[0].result.quads, once.result.quads.num_faces());
@@ -464,8 +477,12 @@ TEST(CorpusTipSplit, TipRunsKeepTheCountAskedFor) {
   EXPECT_TRUE(std::any_of(rounds.begin(), rounds.end(), [&](const auto& t) {
     return double(t.result.quads) > kCountSlack * 800;
   }));
-  // ...and the kept one is within it.
+  // ...and the kept one is within it. The JSON lists each run's quads.
   EXPECT_LE(double(rounds.at(r.tip_round_kept).result.quads), kCountSlack * 800);
+  const auto tried = nlohmann::json::parse(run.result.report)["components"][0]["tip_split"];
+  ASSERT_EQ(tried["tried"].size(), rounds.size());
+  for (std::size_t k = 0; k < rounds.size(); ++k)
+    EXPECT_EQ(tried["tried"][k]["quads"].get<uint64_t>(), rounds[k].result.quads);
   const PolyMesh& quads = run.result.quads;
   EXPECT_GE(double(quads.num_faces()), 0.9 * 800);
   EXPECT_LE(double(quads.num_faces()), kCountSlack * 800);
