@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <functional>
+#include <queue>
 #include <random>
 
 namespace isoquad {
@@ -109,6 +110,7 @@ class Vsa {
   }
 
   Segmentation run();
+  FaceData<uint32_t> split(const FaceData<uint32_t>& labels, const std::vector<uint32_t>& regions);
 
  private:
   bool crossable(uint32_t h) const { return m_.twin(h) != kInvalid && !barrier_[m_.edge(h)]; }
@@ -134,6 +136,7 @@ class Vsa {
   void relax(uint32_t iterations);
   void converge();
   void add_proxies(uint32_t count);
+  uint32_t farthest_in_region(const std::vector<uint32_t>& seeds, uint32_t region);
   bool teleport();
   void merge_small(double min_area);
   void compact();
@@ -163,6 +166,7 @@ class Vsa {
   KeyHeap heap_;
   std::vector<Proxy> proxies_;
   std::vector<double> log_;
+  std::vector<uint32_t> dist_, queue_;  // farthest_in_region's
 };
 
 // Feature edges that enclose fewer than 10 faces are noise (common on scans at 60 degrees), not
@@ -381,36 +385,45 @@ void Vsa::add_proxies(uint32_t count) {
   });
   for (uint32_t i = 0; placed < count; i = (i + 1) % k, ++placed) ++per[order[i]];
 
-  std::vector<uint32_t> dist(m_.num_faces());
-  std::vector<uint32_t> queue;
+  std::vector<uint32_t> seeds;
   for (uint32_t p = 0; p < k; ++p) {
     for (uint32_t n = 0; n < per[p]; ++n) {
-      // Hop distance within region p from its seed and the seeds added to it so far.
-      std::fill(dist.begin(), dist.end(), kInvalid);
-      queue.clear();
+      // Farthest within region p from its seed and the seeds added to it so far.
+      seeds.clear();
       for (uint32_t q = 0; q < proxies_.size(); ++q)
-        if ((q == p || q >= k) && label_[proxies_[q].seed_face] == p) {
-          dist[proxies_[q].seed_face] = 0;
-          queue.push_back(proxies_[q].seed_face);
-        }
-      uint32_t far = queue.front();
-      for (std::size_t qi = 0; qi < queue.size(); ++qi) {
-        const uint32_t f = queue[qi];
-        if (dist[f] > dist[far] || (dist[f] == dist[far] && f < far)) far = f;
-        for (uint32_t i = 0; i < 3; ++i) {
-          const uint32_t h = 3 * f + i;
-          if (!crossable(h)) continue;
-          const uint32_t g = TriMesh::face_of(m_.twin(h));
-          if (label_[g] == p && dist[g] == kInvalid) {
-            dist[g] = dist[f] + 1;
-            queue.push_back(g);
-          }
-        }
-      }
-      if (dist[far] == 0) break;  // a one-face region cannot take another seed
+        if ((q == p || q >= k) && label_[proxies_[q].seed_face] == p)
+          seeds.push_back(proxies_[q].seed_face);
+      const uint32_t far = farthest_in_region(seeds, p);
+      if (far == kInvalid) break;  // a one-face region cannot take another seed
       proxies_.push_back(proxy_at(far));
     }
   }
+}
+
+// The face of region `region` farthest in hops (through crossable edges, inside the region) from
+// `seeds` (faces of the region), ties to the smaller id; kInvalid if every face is a seed.
+uint32_t Vsa::farthest_in_region(const std::vector<uint32_t>& seeds, uint32_t region) {
+  dist_.assign(m_.num_faces(), kInvalid);
+  queue_.clear();
+  for (const uint32_t f : seeds) {
+    dist_[f] = 0;
+    queue_.push_back(f);
+  }
+  uint32_t far = queue_.front();
+  for (std::size_t qi = 0; qi < queue_.size(); ++qi) {
+    const uint32_t f = queue_[qi];
+    if (dist_[f] > dist_[far] || (dist_[f] == dist_[far] && f < far)) far = f;
+    for (uint32_t i = 0; i < 3; ++i) {
+      const uint32_t h = 3 * f + i;
+      if (!crossable(h)) continue;
+      const uint32_t g = TriMesh::face_of(m_.twin(h));
+      if (label_[g] == region && dist_[g] == kInvalid) {
+        dist_[g] = dist_[f] + 1;
+        queue_.push_back(g);
+      }
+    }
+  }
+  return dist_[far] == 0 ? kInvalid : far;
 }
 
 // CGAL-style teleportation: merge the adjacent pair that costs least and re-seed the freed
@@ -542,7 +555,71 @@ Segmentation Vsa::run() {
   return seg;
 }
 
+// Each listed region in two: a second proxy at the face farthest (in hops inside the region)
+// from the region's best-fitting face, then Lloyd iterations that flood only the listed regions,
+// each proxy inside its own region. The other regions keep their faces.
+FaceData<uint32_t> Vsa::split(const FaceData<uint32_t>& labels,
+                              const std::vector<uint32_t>& regions) {
+  const uint32_t nf = m_.num_faces();
+  label_.assign(labels.begin(), labels.end());
+  uint32_t k = 0;
+  for (uint32_t l : label_) k = std::max(k, l + 1);
+  proxies_.assign(k, Proxy{});
+  fit();
+  std::vector<uint32_t> parent(k);
+  for (uint32_t p = 0; p < k; ++p) parent[p] = p;
+  std::vector<char> split_region(k, 0);
+  for (uint32_t r : regions)
+    if (r < k) split_region[r] = 1;
+  for (uint32_t r = 0; r < k; ++r) {
+    if (!split_region[r] || proxies_[r].seed_face == kInvalid) continue;
+    const uint32_t far = farthest_in_region({proxies_[r].seed_face}, r);
+    if (far == kInvalid) continue;
+    proxies_.push_back(proxy_at(far));
+    parent.push_back(r);
+  }
+  std::vector<uint32_t> region(nf);
+  for (uint32_t f = 0; f < nf; ++f) region[f] = label_[f];
+  using Entry = std::pair<double, std::pair<uint32_t, uint32_t>>;  // error, (face, proxy)
+  for (int it = 0; it < 6; ++it) {
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+    for (uint32_t f = 0; f < nf; ++f)
+      if (split_region[region[f]]) label_[f] = kInvalid;
+    auto push = [&](uint32_t f, uint32_t p) {
+      for (uint32_t i = 0; i < 3; ++i) {
+        const uint32_t h = 3 * f + i;
+        if (!crossable(h)) continue;
+        const uint32_t g = TriMesh::face_of(m_.twin(h));
+        if (label_[g] == kInvalid && region[g] == parent[p])
+          heap.push({face_error(g, proxies_[p]), {g, p}});
+      }
+    };
+    for (uint32_t p = 0; p < proxies_.size(); ++p)
+      if (split_region[parent[p]]) label_[proxies_[p].seed_face] = p;
+    for (uint32_t p = 0; p < proxies_.size(); ++p)
+      if (split_region[parent[p]]) push(proxies_[p].seed_face, p);
+    while (!heap.empty()) {
+      const auto [e, fp] = heap.top();
+      heap.pop();
+      if (label_[fp.first] != kInvalid) continue;
+      label_[fp.first] = fp.second;
+      push(fp.first, fp.second);
+    }
+    for (uint32_t f = 0; f < nf; ++f)
+      if (label_[f] == kInvalid) label_[f] = region[f];  // not reached (cut off by barriers)
+    fit();
+  }
+  return FaceData<uint32_t>(label_);
+}
+
 }  // namespace
+
+FaceData<uint32_t> split_vsa_regions(const TriMesh& mesh, const EdgeData<char>& barrier,
+                                     const FaceData<uint32_t>& labels,
+                                     const std::vector<uint32_t>& regions,
+                                     const VsaOptions& options) {
+  return Vsa(mesh, barrier, options).split(labels, regions);
+}
 
 Segmentation segment_vsa(const TriMesh& mesh, const EdgeData<char>& barrier,
                          const VsaOptions& options) {

@@ -42,6 +42,13 @@ struct Segmentation {
 Segmentation segment_vsa(const TriMesh& mesh, const EdgeData<char>& barrier,
                          const VsaOptions& options);
 
+// `labels` with each listed region cut in two by a two-proxy VSA inside it (the new parts get
+// ids after the largest label).
+FaceData<uint32_t> split_vsa_regions(const TriMesh& mesh, const EdgeData<char>& barrier,
+                                     const FaceData<uint32_t>& labels,
+                                     const std::vector<uint32_t>& regions,
+                                     const VsaOptions& options);
+
 // The L2,1 (+ compactness) energy of a labelling with its best-fit proxies.
 double vsa_energy(const TriMesh& mesh, const FaceData<uint32_t>& labels, uint32_t num_patches,
                   double compactness);

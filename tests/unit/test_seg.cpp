@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include "core/refined_mesh.hpp"
 #include "corpus.hpp"
@@ -59,6 +61,67 @@ TEST(Vsa, DeterministicForASeed) {
   o.seed = 7;
   const Segmentation d = segment_vsa(c.mesh, c.feature, o);
   EXPECT_EQ(d.num_patches(), 12u);
+}
+
+// Two cube faces given as one region come apart exactly along their shared edge: the split is a
+// two-proxy VSA inside the region, and with the pure L2,1 metric each flat face is one proxy.
+TEST(VsaSplit, ARegionOfTwoCubeFacesSplitsAlongTheirEdge) {
+  const PreparedComponent c = prepared(test::subdivided_cube(6), 0);
+  const EdgeData<char> none(c.mesh.num_edges(), 0);
+  // Labels by face normal: +x and +y together as region 0, the other four faces 1..4.
+  FaceData<uint32_t> labels(c.mesh.num_faces(), 0);
+  uint32_t next = 1;
+  std::map<std::tuple<long, long, long>, uint32_t> by_normal;
+  for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {
+    const Vec3 n = c.mesh.face_normal(f);
+    if (n.x > 0.5 || n.y > 0.5) continue;
+    const auto key = std::tuple(std::lround(n.x), std::lround(n.y), std::lround(n.z));
+    if (!by_normal.count(key)) by_normal[key] = next++;
+    labels[f] = by_normal[key];
+  }
+  ASSERT_EQ(next, 5u);
+  VsaOptions o;
+  o.compactness = 0;
+  const FaceData<uint32_t> split = split_vsa_regions(c.mesh, none, labels, {0}, o);
+  std::set<uint32_t> plus_x, plus_y;
+  for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {
+    const Vec3 n = c.mesh.face_normal(f);
+    if (labels[f] != 0) {
+      EXPECT_EQ(split[f], labels[f]) << "face " << f << " is outside the split region";
+      continue;
+    }
+    (n.x > 0.5 ? plus_x : plus_y).insert(split[f]);
+  }
+  ASSERT_EQ(plus_x.size(), 1u);
+  ASSERT_EQ(plus_y.size(), 1u);
+  EXPECT_NE(*plus_x.begin(), *plus_y.begin());
+  EXPECT_EQ(std::max(*plus_x.begin(), *plus_y.begin()), 5u);  // the new part comes after the rest
+  EXPECT_EQ(std::min(*plus_x.begin(), *plus_y.begin()), 0u);
+}
+
+// On a curved surface every split region becomes two connected parts, the rest is untouched.
+TEST(VsaSplit, SplitRegionsBecomeTwoConnectedParts) {
+  const PreparedComponent c = prepared(test::torus(40, 16));
+  VsaOptions o;
+  o.patches = 12;
+  const Segmentation s = segment_vsa(c.mesh, c.feature, o);
+  ASSERT_EQ(s.num_patches(), 12u);
+  const FaceData<uint32_t> split = split_vsa_regions(c.mesh, c.feature, s.face_patch, {3, 7}, o);
+  std::map<uint32_t, std::set<uint32_t>> parts;
+  for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {
+    parts[s.face_patch[f]].insert(split[f]);
+    if (s.face_patch[f] != 3 && s.face_patch[f] != 7) EXPECT_EQ(split[f], s.face_patch[f]);
+  }
+  for (const uint32_t r : {3u, 7u}) {
+    ASSERT_EQ(parts[r].size(), 2u) << "region " << r;
+    EXPECT_TRUE(parts[r].count(r));
+    for (const uint32_t l : parts[r]) EXPECT_TRUE(test::patch_connected(c.mesh, split, l));
+  }
+  std::set<uint32_t> all(split.begin(), split.end());
+  EXPECT_EQ(all.size(), 14u);
+  EXPECT_EQ(*all.rbegin(), 13u);
+  // Deterministic.
+  EXPECT_EQ(split_vsa_regions(c.mesh, c.feature, s.face_patch, {3, 7}, o).values(), split.values());
 }
 
 TEST(Vsa, FeatureEdgesAreNeverInsideAPatch) {
