@@ -20,7 +20,8 @@ struct RemeshArgs {
   std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global";
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
-       split_patches = false, no_tip_split = false, no_refine = false, no_patch_rounds = false;
+       split_patches = false, no_tip_split = false, no_refine = false, no_patch_rounds = false,
+       no_misfit_split = false;
   uint32_t smooth = 0, fold_rounds = 2, threads = 0;
   double tolerance = RemeshOptions{}.tolerance;
   uint32_t tolerance_rounds = RemeshOptions{}.tolerance_rounds;
@@ -88,6 +89,11 @@ Runner add_remesh(CLI::App& app) {
                 "refinement (by default, unless --patches or --quads is given, the component "
                 "runs again with 1.5, then 2 times as many patches at the same size, and the "
                 "first run that reaches the distance with no more folded quads is kept)");
+  sub->add_flag("--no-misfit-split", a->no_misfit_split,
+                "Keep the patches as they are where quads still fold after every other repair "
+                "(by default the patches whose rectangle cannot follow their shape, one side "
+                "more than 3 times the facing one, are cut in two by VSA and the stages run "
+                "again; kept only if fewer quads fold)");
   sub->add_option("--fold-rounds", a->fold_rounds,
                   "Where quads still fold after untangling, give their patches one more quad "
                   "across and solve the lengths, map and quads again, at most this often (a round "
@@ -150,6 +156,7 @@ Runner add_remesh(CLI::App& app) {
     o.tip_split = !a->no_tip_split;
     o.refine = !a->no_refine;
     o.patch_rounds = !a->no_patch_rounds;
+    o.misfit_split = !a->no_misfit_split;
     o.tolerance = a->tolerance;
     o.tolerance_rounds = a->tolerance_rounds;
     o.improve_corners = a->improve_corners;

@@ -41,6 +41,9 @@ struct RemeshOptions {
   // target, run again with 1.5 and then 2 times the automatic patch count (the first to reach it
   // with no more folded quads is kept).
   bool patch_rounds = true;
+  // Where quads still fold after every other repair, cut the patches no rectangle fits in two
+  // and run the stages again (kept only if fewer quads fold).
+  bool misfit_split = true;
   // At the default size (no quads, no edge length): remesh a component with more quads while its
   // quads are farther than this fraction of the bounding-box diagonal from the input (two-sided
   // Hausdorff), at most tolerance_rounds times and to 4 times the first count (0: off).

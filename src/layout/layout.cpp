@@ -447,6 +447,25 @@ Lengths tune_lengths(const MetaMesh& meta, const std::vector<std::vector<uint8_t
   return best;
 }
 
+std::vector<uint32_t> misfit_patches(const MetaMesh& meta, const Layout& layout, double ratio) {
+  std::vector<uint32_t> out;
+  for (uint32_t p = 0; p < meta.faces.size(); ++p) {
+    double side[4] = {0, 0, 0, 0};
+    const Chart& chart = layout.charts[p];
+    for (uint32_t i = 0; i < meta.faces[p].cycle.size(); ++i)
+      side[chart.item_side[i]] += layout.target[meta.faces[p].cycle[i].edge];
+    for (int d = 0; d < 2; ++d) {
+      const double longer = std::max(side[d], side[d + 2]);
+      const double shorter = std::min(side[d], side[d + 2]);
+      if (longer - shorter >= 3 && longer > ratio * std::max(shorter, 0.5)) {
+        out.push_back(p);
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 std::vector<double> Layout::length_ratios() const {
   std::vector<double> ratio;
   for (uint32_t e = 0; e < length.size(); ++e)

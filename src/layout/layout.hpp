@@ -107,6 +107,13 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
                     const EdgeData<char>& feature, MetaMesh& meta, const LayoutOptions& options,
                     LayoutReport& report);
 
+// Patches whose rectangle cannot follow their shape: in one direction one side's target (the sum
+// of its meta-edges' targets) is more than `ratio` times the facing side's and at least 3 quads
+// longer (an L- or T-shaped patch, a leg strip with a piece of shoulder). The length program
+// then stretches one side and crushes the other, and the map crowds quads into slivers there
+// (the mushroom at 3,000 quads: a patch whose facing sides' targets are 9.5 times apart).
+std::vector<uint32_t> misfit_patches(const MetaMesh& meta, const Layout& layout, double ratio = 3);
+
 // More quads across the given patches (those whose quads folded against the surface: a patch
 // one or two quads across a tip, or squeezed in a strip, has too few lattice lines to follow
 // the surface). For each patch, its dimension (width: sides 0 and 2, height: 1 and 3) shrunk

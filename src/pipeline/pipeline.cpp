@@ -204,9 +204,10 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   run.segment_seconds += seconds_since(t0);
   if (o.last == Stage::segment) return;
 
-  LayoutOptions lo = o.layout;
-  lo.edge_length = o.edge_length > 0 ? h : 0;
-  lo.quads = o.edge_length > 0 ? 0 : (o.quads > 0 ? o.quads * run.area_share : 0);
+  LayoutOptions sized_layout = o.layout;
+  sized_layout.edge_length = o.edge_length > 0 ? h : 0;
+  sized_layout.quads = o.edge_length > 0 ? 0 : (o.quads > 0 ? o.quads * run.area_share : 0);
+  LayoutOptions lo = sized_layout;
   t0 = Clock::now();
   auto split = [&] {
     run.quad_split.emplace();
@@ -295,6 +296,17 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     r.seconds += last.seconds;
     run.extract_seconds += seconds_since(t);
   };
+  // Back to `before` after a fold repair not kept, keeping the time it took and the tries counted.
+  auto undo_try = [&](ComponentRun& before) {
+    before.segment_seconds = run.segment_seconds;
+    before.layout_seconds = run.layout_seconds;
+    before.param_seconds = run.param_seconds;
+    before.extract_seconds = run.extract_seconds;
+    before.fold_rounds = run.fold_rounds;
+    before.corner_tries = run.corner_tries;
+    before.misfit_split = run.misfit_split;
+    run = std::move(before);
+  };
   // Folds left after untangling: thicker patches, then diagonal collapses.
   auto repair_folds = [&] {
     // Where diagonal collapses alone remove every fold and leave the quads within the distance
@@ -332,14 +344,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
       thicken_patches(run.seg.meta, run.layout, patches, minimums);
       ComponentRun before = run;
-      // Undoes the round but keeps its time and count.
-      auto undo = [&] {
-        before.layout_seconds = run.layout_seconds;
-        before.param_seconds = run.param_seconds;
-        before.extract_seconds = run.extract_seconds;
-        before.fold_rounds = run.fold_rounds;
-        run = std::move(before);
-      };
+      auto undo = [&] { undo_try(before); };
       ++run.fold_rounds;
       try {
         t0 = Clock::now();
@@ -392,6 +397,16 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   // folds went 9 -> 8, and twice the angle weight took folds 8 -> 3 at 1,500 quads but 5 -> 9 at
   // the default size. As tries where quads still fold, each can only help (knot1 at the default
   // size: 25 -> 0 by the flat price, its strip ends had corners at flat places).
+  // The layout, map, quads and fold repairs again (after new corners or patches): whether fewer
+  // quads fold than in `before`.
+  auto solve_again = [&](const UntangleReport& before) {
+    t0 = Clock::now();
+    layout();
+    run.layout_seconds += seconds_since(t0);
+    param_and_extract();
+    repair_folds();
+    return fold_score(run.untangle_report) < fold_score(before);
+  };
   struct CornerTry {
     double flat = 0, crease = 0, angle_weight = 0;
   };
@@ -418,12 +433,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       run.seg.meta = *segmented;
       lo.improve_corners = refine;
       try {
-        t0 = Clock::now();
-        layout();
-        run.layout_seconds += seconds_since(t0);
-        param_and_extract();
-        repair_folds();
-        keep = fold_score(run.untangle_report) < fold_score(before.untangle_report);
+        keep = solve_again(before.untangle_report);
         break;
       } catch (const Error& e) {
         if (e.code() != "E553" && e.code() != "E502" && e.code() != "E402" && e.code() != "E401")
@@ -433,14 +443,52 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     }
     ++run.corner_tries;
     if (!keep) {
-      before.layout_seconds = run.layout_seconds;
-      before.param_seconds = run.param_seconds;
-      before.extract_seconds = run.extract_seconds;
-      before.fold_rounds = run.fold_rounds;
-      before.corner_tries = run.corner_tries;
-      run = std::move(before);
+      undo_try(before);
     } else {
       run.corner_try_kept = run.corner_tries;
+    }
+  }
+  // Folds left still, and patches whose shape no rectangle follows (layout/layout.hpp
+  // misfit_patches): their VSA regions are cut in two (seg/vsa.hpp split_vsa_regions) and the
+  // stages run again from there; kept if fewer quads fold. The last try: it changes the patches.
+  if (o.misfit_split && segmented && !run.quad_split && o.fold_rounds > 0 &&
+      o.corner_retry_penalty > 0 && run.untangle_report.degenerate > 0) {
+    // Each patch's VSA region (for a patch that took in a tiny neighbour in the disk repair,
+    // one of the two).
+    std::vector<uint32_t> region_of(run.seg.num_patches, kInvalid);
+    for (uint32_t f = 0; f < run.seg.labels.size(); ++f)
+      region_of[run.seg.labels[f]] = run.seg.vsa_labels[run.seg.refined.base_face[f]];
+    std::vector<uint32_t> regions;
+    for (const uint32_t p : misfit_patches(run.seg.meta, run.layout))
+      regions.push_back(region_of[p]);
+    std::sort(regions.begin(), regions.end());
+    regions.erase(std::unique(regions.begin(), regions.end()), regions.end());
+    if (!regions.empty()) {
+      ComponentRun before = run;
+      bool keep = false;
+      run.misfit_split.folded_before = run.misfit_split.folded_after =
+          run.untangle_report.nonpositive;
+      try {
+        t0 = Clock::now();
+        SegmentOptions so = SegmentOptions::sized(h, o.patches, o.seed);
+        const FaceData<uint32_t> split =
+            split_vsa_regions(surface, run.surface_feature, run.seg.vsa_labels, regions, so.vsa);
+        so.tips = tips;
+        so.vsa_labels = &split;
+        run.seg = segment(surface, run.surface_feature, so);
+        run.segment_seconds += seconds_since(t0);
+        ranks.clear();
+        lo = sized_layout;
+        keep = solve_again(before.untangle_report);
+        run.misfit_split.folded_after = run.untangle_report.nonpositive;
+      } catch (const Error& e) {
+        // A run that fails (a patch not cut into a disk, no layout, a map that does not
+        // certify) is a try not kept; a bug is not.
+        if (e.kind() == ErrorKind::internal) throw;
+      }
+      run.misfit_split.regions = uint32_t(regions.size());
+      run.misfit_split.kept = keep;
+      if (!keep) undo_try(before);
     }
   }
   finish_quads(o, run, run.quads, run.smooth_report, run.snap_report);

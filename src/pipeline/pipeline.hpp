@@ -78,6 +78,11 @@ struct PipelineOptions {
   // hold make the harmonic map crowd it into a few stretched quads, which neither tips nor
   // refinement undo (the cow's head at the default size).
   bool patch_rounds = true;
+  // Where quads still fold after the fold rounds, the collapses and the corner tries, the
+  // patches no rectangle fits (layout/layout.hpp misfit_patches) have their VSA regions cut in
+  // two (seg/vsa.hpp split_vsa_regions) and the stages run again from the segmentation; kept if
+  // fewer quads fold.
+  bool misfit_split = true;
   Stage last = Stage::extract;
 };
 
@@ -134,6 +139,15 @@ struct ComponentRun {
   uint32_t fold_rounds = 0, fold_rounds_kept = 0;  // thickening rounds tried and kept
   // Corners chosen again for folds: how many tries, and which was kept (1-based; 0: none).
   uint32_t corner_tries = 0, corner_try_kept = 0;
+  // Misfit patches split for folds (the last fold repair in the stages): how many VSA regions
+  // were cut in two (0: no such try), the quads folded (scaled Jacobian <= 0 against the
+  // surface) before and with the try (before again if it failed), and whether it was kept.
+  struct MisfitSplit {
+    uint32_t regions = 0;
+    uint32_t folded_before = 0, folded_after = 0;
+    bool kept = false;
+  };
+  MisfitSplit misfit_split;
   // The sizes tried for PipelineOptions::tolerance (empty when it was not used), and which one
   // was kept.
   std::vector<SizeRound> size_rounds;

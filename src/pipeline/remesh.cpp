@@ -41,7 +41,8 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"tolerance_rounds", o.tolerance_rounds},
           {"tip_split", o.tip_split},
           {"refine", o.refine},
-          {"patch_rounds", o.patch_rounds}};
+          {"patch_rounds", o.patch_rounds},
+          {"misfit_split", o.misfit_split}};
 }
 
 }  // namespace
@@ -95,6 +96,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.tip_split = opt.tip_split;
   o.refine = opt.refine;
   o.patch_rounds = opt.patch_rounds;
+  o.misfit_split = opt.misfit_split;
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;
@@ -149,6 +151,12 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
       }
       say(fmt::format("component {}: more patches: {}", c, tried));
     }
+    if (r.misfit_split.regions > 0)
+      say(
+          fmt::format("component {}: misfit patches cut in two for folds: {} regions, {} -> {} "
+                      "folded{}",
+                      c, r.misfit_split.regions, r.misfit_split.folded_before,
+                      r.misfit_split.folded_after, r.misfit_split.kept ? " (kept)" : ""));
     // The output is not all it should be: said, with where to look.
     if (const uint32_t n = r.untangle_report.nonpositive; n > 0) {
       std::string where;
@@ -215,6 +223,11 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                      {"corner_refinement_dropped", r.corners_unrefined},
                      {"fold_rounds", {{"tried", r.fold_rounds}, {"kept", r.fold_rounds_kept}}},
                      {"corners_retried", {{"tried", r.corner_tries}, {"kept", r.corner_try_kept}}},
+                     {"misfit_split",
+                      {{"regions", r.misfit_split.regions},
+                       {"folded_before", r.misfit_split.folded_before},
+                       {"folded_after", r.misfit_split.folded_after},
+                       {"kept", r.misfit_split.kept}}},
                      {"patches", r.seg.num_patches},
                      {"meta_vertices", r.seg.meta.vertices.size()},
                      {"meta_vertex_valence", valence},

@@ -3,7 +3,7 @@
 // Euler characteristic; its quad count is what the layout promised and within 10% of the
 // request. Untangling never adds folds, at most one quad folds against the surface (the goal
 // is none: the cow and the hand have one each today, 52 quads over the corpus once) and the
-// Hausdorff distance is within 2% of the diagonal, the cow's within 3.5% (3.20% today).
+// Hausdorff distance is within 2% of the diagonal, the cow's within 3.5% (3.36% today).
 // The run's report folder (pictures, layout, JSON, HTML) is complete and its numbers are the
 // output's quality.
 #include <gtest/gtest.h>
@@ -14,6 +14,7 @@
 
 #include <string>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "corpus.hpp"
@@ -207,7 +208,7 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   // issue 6; the anchor's went with the flips of its needles, the hand's with the supernodal
   // factorization's rounding).
   EXPECT_LE(q.sj_surface_nonpositive, std::string(GetParam()) == "cow.off" ? 1u : 0u);
-  // The cow is farthest, 3.20%: its udder and hooves at 1,500 quads (3.79% before the tip
+  // The cow is farthest, 3.36%: its udder and hooves at 1,500 quads (3.79% before the tip
   // splits). The others are within 1.6% (the elephant 1.55%, the armadillo 1.49%: 3.81% before
   // the tip splits, 2.89% with one round; mech-holes-shark 7.1% before its lens-shaped patch got
   // a width target; knot1 2.16 -> 1.40% with tip snapping).
@@ -291,11 +292,14 @@ TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   expect_tip_split_kept_only_if_better(run, q);
   EXPECT_GT(shortest_edge(quads), 1e-6);
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
-  // Within 1% but the cow, 2.32% (2.55% with one round of tips; its runs with more patches
-  // fold a quad). The elephant was 2.20% before the patch rounds (3.0% before tip snapping, 3.8%
-  // before the raised request), 0.89% with 1.5 times its patches; mech-holes-shark 7.3% before
-  // the width targets, 2.52% before the tip splits, 1.19% before the patch rounds, 0.99% with
-  // twice its patches.
+  // Within 1%; the cow within 2.5%. The cow is at 0.999% where its first run's two folded quads
+  // go with the misfit split (then the tips and the refinement close in), 2.30% with a fold
+  // without it on the same machine; the map's floating point follows the machine's BLAS kernels
+  // (the corpus at 1,500 quads: 28,847 quads on one machine, 28,879 on another), and on the
+  // machine of the earlier measurements the cow was at 2.32% with no fold. The elephant was
+  // 2.20% before the patch rounds (3.0% before tip snapping, 3.8% before the raised request);
+  // mech-holes-shark 7.3% before the width targets, 2.52% before the tip splits, 1.19% before
+  // the patch rounds, 0.99% with twice its patches.
   EXPECT_LT(q.hausdorff, std::string(GetParam()) == "cow.off" ? 0.025 : 0.01);
   RecordProperty("quads", int(quads.num_faces()));
   RecordProperty("sj_surface_nonpositive", int(q.sj_surface_nonpositive));
@@ -488,6 +492,53 @@ TEST(CorpusTipSplit, TipRunsKeepTheCountAskedFor) {
   EXPECT_LE(double(quads.num_faces()), kCountSlack * 800);
   const QualityReport q = expect_valid_output(quads, input);
   EXPECT_LT(q.hausdorff, rounds[0].result.distance);
+}
+
+// The mushroom at 3,000 quads: one quad stays folded through the fold rounds, the collapses and
+// the corner tries, in a fan of slivers where one patch's facing sides are 9.5 times apart. The
+// last try cuts the VSA regions of such misfit patches in two and runs the stages again; it is
+// kept only with fewer folded quads (here 1 -> 0). The map's floating point follows the
+// machine's BLAS kernels, so where the mushroom does not fold on some machine there is nothing
+// to try and the test says so.
+TEST(CorpusMisfitSplit, KeptOnlyWithFewerFolds) {
+  ISOQUAD_CORPUS_MESH(path, "mushroom.off");
+  const ReadResult input = read_mesh(path);
+  RemeshOptions o;
+  o.quads = 3000;
+  std::string progress;
+  const RemeshRun run = remesh_run(input.mesh, o, input.unshared_vertices,
+                                   [&](const std::string& line) { progress += line + "\n"; });
+  const ComponentRun& r = run.runs.at(0);
+  const ComponentRun::MisfitSplit& split = r.misfit_split;
+  const PolyMesh& quads = run.result.quads;
+  const QualityReport q = measure_quality(quads, &input.mesh);
+  EXPECT_TRUE(q.pure_quad);
+  EXPECT_TRUE(q.edge_manifold);
+  EXPECT_TRUE(q.vertex_manifold);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_GE(double(quads.num_faces()), 0.9 * 3000);
+  EXPECT_LE(double(quads.num_faces()), 1.1 * 3000);
+  EXPECT_LT(q.hausdorff, kTipTarget);
+  if (split.regions == 0) GTEST_SKIP() << "no quad folded after the corner tries: nothing to cut";
+  EXPECT_GE(split.folded_before, 1u);
+  if (split.kept) {
+    EXPECT_LE(split.folded_after, split.folded_before);
+  }
+  // The output is the run kept.
+  EXPECT_EQ(r.untangle_report.nonpositive, split.kept ? split.folded_after : split.folded_before);
+  EXPECT_EQ(q.sj_surface_nonpositive, r.untangle_report.nonpositive);
+  // The JSON and the progress say the same.
+  const auto json = nlohmann::json::parse(run.result.report)["components"][0]["misfit_split"];
+  EXPECT_EQ(json["regions"].get<uint32_t>(), split.regions);
+  EXPECT_EQ(json["folded_before"].get<uint32_t>(), split.folded_before);
+  EXPECT_EQ(json["folded_after"].get<uint32_t>(), split.folded_after);
+  EXPECT_EQ(json["kept"].get<bool>(), split.kept);
+  EXPECT_NE(progress.find(fmt::format("misfit patches cut in two for folds: {} regions, {} -> {} "
+                                      "folded{}",
+                                      split.regions, split.folded_before, split.folded_after,
+                                      split.kept ? " (kept)" : "")),
+            std::string::npos)
+      << progress;
 }
 
 // Subdivision stops before a level would take the surface past 250,000 faces: rotor (1,200
