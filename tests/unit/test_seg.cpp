@@ -110,7 +110,9 @@ TEST(VsaSplit, SplitRegionsBecomeTwoConnectedParts) {
   std::map<uint32_t, std::set<uint32_t>> parts;
   for (uint32_t f = 0; f < c.mesh.num_faces(); ++f) {
     parts[s.face_patch[f]].insert(split[f]);
-    if (s.face_patch[f] != 3 && s.face_patch[f] != 7) EXPECT_EQ(split[f], s.face_patch[f]);
+    if (s.face_patch[f] != 3 && s.face_patch[f] != 7) {
+      EXPECT_EQ(split[f], s.face_patch[f]);
+    }
   }
   for (const uint32_t r : {3u, 7u}) {
     ASSERT_EQ(parts[r].size(), 2u) << "region " << r;
