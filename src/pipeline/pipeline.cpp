@@ -451,8 +451,8 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   // Folds left still, and patches whose shape no rectangle follows (layout/layout.hpp
   // misfit_patches): their VSA regions are cut in two (seg/vsa.hpp split_vsa_regions) and the
   // stages run again from there; kept if fewer quads fold. The last try: it changes the patches.
-  if (o.misfit_split && segmented && !run.quad_split && o.fold_rounds > 0 &&
-      o.corner_retry_penalty > 0 && run.untangle_report.degenerate > 0) {
+  if (o.misfit_split && !run.quad_split && o.fold_rounds > 0 &&
+      run.untangle_report.degenerate > 0) {
     // Each patch's VSA region (for a patch that took in a tiny neighbour in the disk repair,
     // one of the two).
     std::vector<uint32_t> region_of(run.seg.num_patches, kInvalid);

@@ -578,19 +578,17 @@ FaceData<uint32_t> Vsa::split(const FaceData<uint32_t>& labels,
     proxies_.push_back(proxy_at(far));
     parent.push_back(r);
   }
-  std::vector<uint32_t> region(nf);
-  for (uint32_t f = 0; f < nf; ++f) region[f] = label_[f];
   using Entry = std::pair<double, std::pair<uint32_t, uint32_t>>;  // error, (face, proxy)
   for (int it = 0; it < 6; ++it) {
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
     for (uint32_t f = 0; f < nf; ++f)
-      if (split_region[region[f]]) label_[f] = kInvalid;
+      if (split_region[labels[f]]) label_[f] = kInvalid;
     auto push = [&](uint32_t f, uint32_t p) {
       for (uint32_t i = 0; i < 3; ++i) {
         const uint32_t h = 3 * f + i;
         if (!crossable(h)) continue;
         const uint32_t g = TriMesh::face_of(m_.twin(h));
-        if (label_[g] == kInvalid && region[g] == parent[p])
+        if (label_[g] == kInvalid && labels[g] == parent[p])
           heap.push({face_error(g, proxies_[p]), {g, p}});
       }
     };
@@ -606,7 +604,7 @@ FaceData<uint32_t> Vsa::split(const FaceData<uint32_t>& labels,
       push(fp.first, fp.second);
     }
     for (uint32_t f = 0; f < nf; ++f)
-      if (label_[f] == kInvalid) label_[f] = region[f];  // not reached (cut off by barriers)
+      if (label_[f] == kInvalid) label_[f] = labels[f];  // not reached (cut off by barriers)
     fit();
   }
   return FaceData<uint32_t>(label_);
