@@ -67,9 +67,10 @@ struct PipelineOptions {
   // except one that added several tips to the kept run: then tips are added to the kept run one
   // at a time.
   bool tip_split = true;
-  // Where the quads (after the tip rounds) are still farther than the distance target, the
-  // lattice quads there are cut at thirds in the same map, again where still far; kept if that
-  // reaches the target with no more folded quads (pipeline.cpp refine_far).
+  // Where the quads (after the tip rounds) still fold or are farther than the distance target,
+  // the lattice quads there are cut at thirds in the same map, again where still so, within the
+  // count; kept with fewer folds, or as many and a distance within the target or clearly nearer
+  // (pipeline.cpp refine_far).
   bool refine = true;
   // Unless a patch count or a quad count is asked for: where the quads (after the tip rounds and
   // the refinement) are still farther than the distance target, the component runs again with
@@ -102,6 +103,23 @@ constexpr uint32_t kTipRounds = 3;
 // LatticeQuads::kMaxLevel.
 constexpr uint32_t kRefineRounds = 5, kRefineAttempts = 2;
 constexpr double kRefineGrowthSized = 1.1, kRefineGrowth = 2;
+// With a count asked for (--quads), a refinement that does not reach the target, with as many
+// folded quads as before, is kept where it is at least this much nearer (the distance times
+// kRefineGain or less): each round adds irregular vertices where the finer quads end, worth it
+// only for a clear gain, and only within the count. Without a count the rounds may double the
+// quads, and the patch rounds follow: the elephant at the default size, with OpenBLAS's SkylakeX
+// kernels, kept 2.20% -> 1.61% with 1,840 -> 2,148 quads and 255 irregular vertices, and its
+// patch rounds then reached 1.01% only (the cow at the default size once went 2.32% -> 2.15%
+// with 56 -> 369 irregular vertices).
+constexpr double kRefineGain = 0.75;
+// With a count asked for, a round cuts near the points at least this fraction as far as the
+// farthest (and beyond the target), so that the count is spent where the quads are farthest,
+// round after round: the cow at 1,500 quads, its 52 quads left to the count, went 3.36% ->
+// 2.59% in one round with every point beyond the target marked, 2.03% in five with these.
+// Without a count (twice the quads allowed) every point beyond the target is cut at once, which
+// reaches it in fewer rounds: the elephant at the default size, with OpenBLAS's SkylakeX
+// kernels, came to 0.90% that way in its patch round of 112 patches and to 1.50% this way.
+constexpr double kRefineFocus = 0.75;
 // A quad count asked for (--quads) is met within this factor where the layout allows: a tip
 // run past it is not kept (the hand at 800 quads went 820 -> 1,185 quads with nine tips, 3.07%
 // -> 1.51%), nor a refinement round (kRefineGrowthSized).

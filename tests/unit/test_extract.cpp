@@ -38,6 +38,7 @@ Remeshed remesh_shape(const PolyMesh& m, uint32_t k, double quads,
   o.untangle = untangle;
   o.snap = snap;
   o.tip_split = tip_split;  // the stages of one run, unless asked
+  o.refine = false;         // the layout's lattice quads (a fold would be cut finer)
   o.param.weights = weights;
   o.patches = k;
   o.quads = quads;
