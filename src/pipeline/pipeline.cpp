@@ -610,7 +610,7 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
 // the first with fewer folded quads, or with as many where it reaches the target or (with a count
 // asked for) is nearer than kRefineGain of the first; over a round kept before it with fewer folds,
 // or as many and nearer. A round that reaches the target with no fold is the last (the cow at 1,500
-// quads: 3.36% and a fold -> 2.03% and none in five rounds, 1,644 quads). A round that folds more
+// quads: 3.36% and a fold -> 2.03% and none in four rounds, 1,644 quads). A round that folds more
 // quads than the first is tried again without the marks near them (kRefineAttempts tries), and
 // those points are not marked again.
 void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {

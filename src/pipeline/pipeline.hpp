@@ -115,7 +115,7 @@ constexpr double kRefineGain = 0.75;
 // With a count asked for, a round cuts near the points at least this fraction as far as the
 // farthest (and beyond the target), so that the count is spent where the quads are farthest,
 // round after round: the cow at 1,500 quads, its 52 quads left to the count, went 3.36% ->
-// 2.59% in one round with every point beyond the target marked, 2.03% in five with these.
+// 2.59% in one round with every point beyond the target marked, 2.03% in four with these.
 // Without a count (twice the quads allowed) every point beyond the target is cut at once, which
 // reaches it in fewer rounds: the elephant at the default size, with OpenBLAS's SkylakeX
 // kernels, came to 0.90% that way in its patch round of 112 patches and to 1.50% this way.
