@@ -86,9 +86,11 @@ Runner add_remesh(CLI::App& app) {
   sub->add_flag("--no-patch-rounds", a->no_patch_rounds,
                 "Keep the automatic patch count, even where the quads are still farther than 1% "
                 "of the bounding-box diagonal (or --tolerance) after the tip runs and the "
-                "refinement (by default, unless --patches or --quads is given, the component "
-                "runs again with 1.5, then 2 times as many patches at the same size, and the "
-                "first run that reaches the distance with no more folded quads is kept)");
+                "refinement (by default, unless --patches is given, the component runs again "
+                "with 1.5, then 2 times as many patches at the same size, and the first run "
+                "that reaches the distance with no more folded quads is kept; with --quads N, "
+                "also a run at least a quarter nearer than the one kept before, with no more "
+                "folded quads and at most 1.1 N quads)");
   sub->add_flag("--no-misfit-split", a->no_misfit_split,
                 "Keep the patches as they are where quads still fold after every other repair "
                 "(by default the patches whose rectangle cannot follow their shape, one side "

@@ -836,8 +836,7 @@ ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const Pipeline
 // patches while it is farther than the distance target.
 ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
   ComponentRun run = run_sized_once(prep, c, o);
-  if (!o.patch_rounds || o.patches > 0 || o.quads > 0 || o.last != Stage::extract ||
-      run.quads.quads.empty())
+  if (!o.patch_rounds || o.patches > 0 || o.last != Stage::extract || run.quads.quads.empty())
     return run;
   const double diagonal = mesh_diagonal(prep);
   const double target = o.tolerance > 0 ? o.tolerance : kTipTarget;
@@ -848,6 +847,8 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
   const SizeRound first = result_of(run);
   if (first.distance <= target) return run;
   const uint32_t automatic = run.seg.vsa_patches;
+  const bool counted = o.quads > 0;
+  const double most = kCountSlack * o.quads * run.area_share;
   std::vector<ComponentRun::PatchRound> rounds{{automatic, first}};
   uint32_t kept = 0;
   UnkeptSeconds unkept;
@@ -862,13 +863,16 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
     }
     const SizeRound r = result_of(*again);
     rounds.push_back({again->seg.vsa_patches, r});
-    const bool reached = r.distance <= target && r.folded <= first.folded;
-    const ComponentRun& loser = reached ? run : *again;
+    const SizeRound& best = rounds[kept].result;
+    const bool reached = r.distance <= target;
+    const bool keep = r.folded <= best.folded && (!counted || double(r.quads) <= most) &&
+                      (reached || (counted && r.distance <= kRefineGain * best.distance));
+    const ComponentRun& loser = keep ? run : *again;
     unkept.add(loser);
-    if (reached) {
+    if (keep) {
       run = std::move(*again);
       kept = uint32_t(rounds.size() - 1);
-      break;
+      if (reached) break;
     }
   }
   unkept.charge(run);

@@ -72,12 +72,14 @@ struct PipelineOptions {
   // count; kept with fewer folds, or as many and a distance within the target or clearly nearer
   // (pipeline.cpp refine_far).
   bool refine = true;
-  // Unless a patch count or a quad count is asked for: where the quads (after the tip rounds and
-  // the refinement) are still farther than the distance target, the component runs again with
-  // kPatchGrowth[i] times the automatic patch count, at the same size; the first run that
-  // reaches the target with no more folded quads is kept. Patches too big for the detail they
-  // hold make the harmonic map crowd it into a few stretched quads, which neither tips nor
-  // refinement undo (the cow's head at the default size).
+  // Unless a patch count is asked for: where the quads (after the tip rounds and the
+  // refinement) are still farther than the distance target, the component runs again with
+  // kPatchGrowth[i] times the automatic patch count, at the same size. A run is kept over the
+  // one kept before with no more folded quads where it reaches the target (which ends the
+  // rounds) or, with a quad count asked for, within kCountSlack of it and nearer than
+  // kRefineGain of the kept distance. Patches too big for the detail they hold make the harmonic
+  // map crowd it into a few stretched quads, which neither tips nor refinement undo (the cow's
+  // head at the default size and at 1,500 quads).
   bool patch_rounds = true;
   // Where quads still fold after the fold rounds, the collapses and the corner tries, the
   // patches no rectangle fits (layout/layout.hpp misfit_patches) have their VSA regions cut in
