@@ -211,7 +211,8 @@ void expect_folds_said(const std::vector<std::string>& said, const PolyMesh& qua
 // target: each with more VSA patches than the one before. A round is kept over the round kept
 // before it with no more folds, within 1.1 times the count asked for (`asked`; 0: the default
 // size), and within the target or, with a count asked for, nearer than kRefineGain of it; a kept
-// round within the target is the last. The kept round's figures and patches are the output's.
+// round within the target is the last, and so is, within a count, a round not kept. The kept
+// round's figures and patches are the output's.
 void expect_patch_rounds_kept_only_if_better(const RemeshRun& run, double asked) {
   for (const ComponentRun& r : run.runs) {
     if (r.patch_rounds.empty()) continue;
@@ -229,6 +230,9 @@ void expect_patch_rounds_kept_only_if_better(const RemeshRun& run, double asked)
         kept = k;
       if (kept == k && now.distance <= kTipTarget) {
         EXPECT_EQ(k + 1, rounds.size()) << "a round within the target is the last";
+      }
+      if (kept != k && asked > 0) {
+        EXPECT_EQ(k + 1, rounds.size()) << "within a count, a round not kept is the last";
       }
     }
     EXPECT_EQ(r.patch_round_kept, kept);
