@@ -280,7 +280,7 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
     EXPECT_GE(r.untangle_report.min_after, r.untangle_report.min_before);
     // Tip snapping never takes a surface vertex farther from the quads.
     EXPECT_LE(r.snap_report.farthest_after, r.snap_report.farthest_before);
-    // Where the quads folded (the cow's one at a horn base), refinement cut them finer until
+    // Where the quads folded (the cow's one in its 107-patch run), refinement cut them finer until
     // none did, within the count asked for.
     if (!r.refine_rounds.empty() && r.refine_rounds[0].result.folded > 0) {
       EXPECT_EQ(r.refine_rounds[r.refine_round_kept].result.folded, 0u);
