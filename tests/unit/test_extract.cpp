@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <random>
@@ -16,6 +17,7 @@
 #include "metrics/aabb_tree.hpp"
 #include "metrics/quality.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/remesh.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
 #include "shapes.hpp"
@@ -470,6 +472,81 @@ TEST(Remesh, EigenEntryPoint) {
     EXPECT_EQ(e.code(), "E020");
     EXPECT_EQ(e.context().faces, std::vector<uint32_t>{0});
   }
+}
+
+// Three disjoint shapes in one input (a sphere, a torus and an open plate): each component is
+// remeshed on its own, with its share of the count by area, and the quads are merged. The
+// output has the input's three components, Euler characteristic (2 + 0 + 1) and boundary loop;
+// each component's quads lie on that component alone, in one block, with patch ids of their
+// own (the next component's count on from the last one's).
+TEST(Remesh, ComponentsAreRemeshedApartAndMerged) {
+  const std::array<PolyMesh, 3> shapes{test::icosphere(3), test::torus(48, 16),
+                                       test::grid_plate(12, 12)};
+  const std::array<Vec3, 3> shift{Vec3{0, 0, 0}, Vec3{4, 0, 0}, Vec3{-4, -0.5, 0}};
+  PolyMesh input;
+  std::array<std::vector<std::array<Vec3, 3>>, 3> tris;
+  for (std::size_t k = 0; k < shapes.size(); ++k) {
+    const uint32_t base = uint32_t(input.positions.size());
+    for (const Vec3& p : shapes[k].positions) input.positions.push_back(p + shift[k]);
+    for (std::size_t f = 0; f < shapes[k].num_faces(); ++f) {
+      std::vector<uint32_t> vs;
+      for (const uint32_t v : shapes[k].face(f)) vs.push_back(base + v);
+      input.add_face(vs);
+      tris[k].push_back({input.positions[vs[0]], input.positions[vs[1]], input.positions[vs[2]]});
+    }
+  }
+  RemeshOptions o;
+  o.quads = 1200;
+  const RemeshRun run = remesh_run(input, o);
+  ASSERT_EQ(run.runs.size(), 3u);
+  const PolyMesh& quads = run.result.quads;
+  const QualityReport q = measure_quality(quads, &input);
+  EXPECT_TRUE(q.pure_quad);
+  EXPECT_TRUE(q.edge_manifold);
+  EXPECT_TRUE(q.vertex_manifold);
+  EXPECT_TRUE(q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.topology.components, 3u);
+  EXPECT_EQ(q.topology.euler, 3);
+  EXPECT_EQ(q.topology.boundary_loops, 1u);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  EXPECT_NEAR(double(quads.num_faces()), 1200.0, 120.0);
+  const std::array<AabbTree, 3> trees{AabbTree(tris[0]), AabbTree(tris[1]), AabbTree(tris[2])};
+  double shares = 0;
+  std::size_t face = 0;
+  int32_t patch_base = 0;
+  std::array<bool, 3> seen{};
+  for (const ComponentRun& r : run.runs) {
+    shares += r.area_share;
+    // Its share of the count, within the slack the layout and the repairs leave.
+    const double asked = 1200.0 * r.area_share;
+    EXPECT_NEAR(double(r.quads.quads.size()), asked, 0.25 * asked);
+    // Which shape its first vertex lies on; every vertex of its block lies on that one.
+    const std::size_t first = quads.face(face)[0];
+    std::size_t shape = 0;
+    for (std::size_t k = 1; k < 3; ++k)
+      if (trees[k].closest(quads.positions[first]).distance <
+          trees[shape].closest(quads.positions[first]).distance)
+        shape = k;
+    EXPECT_FALSE(seen[shape]) << "two components on one shape";
+    seen[shape] = true;
+    const int32_t charts = int32_t(r.layout.charts.size());
+    for (std::size_t i = 0; i < r.quads.quads.size(); ++i, ++face) {
+      EXPECT_GE(quads.face_group[face], patch_base);
+      EXPECT_LT(quads.face_group[face], patch_base + charts);
+      for (const uint32_t v : quads.face(face)) {
+        EXPECT_LT(trees[shape].closest(quads.positions[v]).distance, 1e-9);
+        for (std::size_t k = 0; k < 3; ++k) {
+          if (k != shape) {
+            EXPECT_GT(trees[k].closest(quads.positions[v]).distance, 0.5);
+          }
+        }
+      }
+    }
+    patch_base += charts;
+  }
+  EXPECT_EQ(face, quads.num_faces());
+  EXPECT_NEAR(shares, 1.0, 1e-12);
 }
 
 TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {
