@@ -522,6 +522,7 @@ TEST(Remesh, ComponentsAreRemeshedApartAndMerged) {
     const double asked = 1200.0 * r.area_share;
     EXPECT_NEAR(double(r.quads.quads.size()), asked, 0.25 * asked);
     // Which shape its first vertex lies on; every vertex of its block lies on that one.
+    ASSERT_LT(face, quads.num_faces()) << "a component without quads";
     const std::size_t first = quads.face(face)[0];
     std::size_t shape = 0;
     for (std::size_t k = 1; k < 3; ++k)
