@@ -16,5 +16,6 @@ Runner add_param(CLI::App& app);
 Runner add_remesh(CLI::App& app);
 Runner add_quality(CLI::App& app);
 Runner add_render(CLI::App& app);
+Runner add_field(CLI::App& app);
 
 }  // namespace isoquad::cli

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     commands.push_back({app.get_subcommands({}).at(before), std::move(run)});
   };
   add(isoquad::cli::add_info);
+  add(isoquad::cli::add_field);
   add(isoquad::cli::add_segment);
   add(isoquad::cli::add_layout);
   add(isoquad::cli::add_param);

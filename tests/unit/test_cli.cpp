@@ -97,6 +97,28 @@ TEST(Cli, InfoExplainsWhatRemeshWouldReject) {
   std::filesystem::remove(p);
 }
 
+TEST(Cli, FieldPrintsSingularitiesThatSumToEulerAndDrawsThem) {
+  const auto png = std::filesystem::temp_directory_path() / "isoquad_cli_field.png";
+  const CliRun r = run("field " + (isoquad::test::data_dir() / "elephant.off").string() +
+                       " --quads 800 --json --png " + png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc.size(), 1u);
+  // Poincare-Hopf: the indices (k/4 at interior vertices; none on this closed surface's boundary)
+  // sum to the Euler characteristic, -4 for the genus-3 elephant.
+  int64_t quarters = 0;
+  for (const auto& [index, count] : doc[0]["interior_singularities"].items())
+    quarters += std::stoll(index.substr(0, index.find('/'))) * count.get<int64_t>();
+  EXPECT_EQ(quarters, 4 * -4);
+  EXPECT_EQ(doc[0]["boundary_singularities"], 0);
+  EXPECT_GT(doc[0]["solves"].get<int>(), 0);
+  std::ifstream in(png, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  EXPECT_EQ(std::string(sig + 1, 3), "PNG");
+  std::filesystem::remove(png);
+}
+
 TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto ply = dir / "isoquad_cli_patches.ply", png = dir / "isoquad_cli_patches.png";

@@ -1,0 +1,101 @@
+// The cross field on every corpus mesh at the size of 1,500 quads: Poincare-Hopf holds (the
+// solver checks it and throws otherwise), every face with a feature or boundary edge follows it,
+// no singularity away from the features is beyond +-1/2, the same input gives the same field, and
+// the corpus's singular vertices stay within a regression bound.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "corpus.hpp"
+#include "field/cross_field.hpp"
+#include "io/read_mesh.hpp"
+#include "pipeline/sizing.hpp"
+#include "prep/prepare.hpp"
+
+using namespace isoquad;
+
+namespace {
+
+class CorpusField : public testing::TestWithParam<const char*> {};
+
+CrossField field_of(const PreparedMesh& p, RefinedMesh& refined, EdgeData<char>& feature) {
+  const PreparedComponent& c = p.components.at(0);
+  feature = c.feature;
+  refined = split_constraint_conflicts(identity_refinement(c.mesh), feature);
+  CrossFieldOptions o;
+  o.edge_length = edge_length_for_quads(refined.mesh, 1500);
+  return compute_cross_field(refined.mesh, feature, o);
+}
+
+}  // namespace
+
+TEST_P(CorpusField, AlignedToFeaturesWithQuarterSingularities) {
+  ISOQUAD_CORPUS_MESH(path, GetParam());
+  const PreparedMesh p = prepare(read_mesh(path).mesh);
+  RefinedMesh refined;
+  EdgeData<char> feature;
+  const CrossField cf = field_of(p, refined, feature);
+  const TriMesh& m = refined.mesh;
+  ASSERT_EQ(cf.angle.size(), m.num_faces());
+  // Away from the constrained faces, no singularity is more than +-1/2 beyond the
+  // angle defect there in quarter turns (a spike's tip with a defect near 2 pi asks for +1; at a
+  // crease's corner or tip, the crease dictates the turning, whatever it is).
+  VertexData<char> on_feature(m.num_vertices(), 0);
+  for (uint32_t f = 0; f < m.num_faces(); ++f)
+    if (cf.constrained[f])
+      for (uint32_t v : m.face(f)) on_feature[v] = 1;
+  int64_t sum = 0;
+  for (uint32_t v = 0; v < m.num_vertices(); ++v) {
+    sum += cf.index4[v];
+    if (on_feature[v]) continue;
+    double defect = 2 * std::numbers::pi;
+    cf.surface.for_each_outgoing(
+        v, [&](uint32_t h) { defect -= corner_angle(cf.surface, TriMesh::face_of(h), h % 3); });
+    EXPECT_LE(std::abs(cf.index4[v] - std::lround(defect / (std::numbers::pi / 2))), 2)
+        << "vertex " << v << ", angle defect " << defect;
+  }
+  EXPECT_EQ(sum, 4 * m.euler_characteristic());
+  // A face with one feature or boundary edge holds a cross along it, on the field's surface.
+  uint32_t checked = 0;
+  for (uint32_t f = 0; f < m.num_faces(); ++f) {
+    uint32_t edges = 0, along = kInvalid;
+    for (uint32_t i = 0; i < 3; ++i) {
+      const uint32_t h = 3 * f + i;
+      if (m.twin(h) == kInvalid || cf.feature[m.edge(h)]) ++edges, along = h;
+    }
+    if (edges != 1) continue;
+    ++checked;
+    const Vec3 d =
+        cf.surface.position(cf.surface.to(along)) - cf.surface.position(cf.surface.from(along));
+    const double off = std::remainder(cf.frames.arg(f, d) - cf.angle[f], std::numbers::pi / 2);
+    EXPECT_LT(std::abs(off), 1e-9) << "face " << f;
+  }
+  EXPECT_EQ(checked > 0, cf.constrained_faces > 0);
+  if (m.num_faces() <= 15000) {
+    RefinedMesh r2;
+    EdgeData<char> f2;
+    const CrossField again = field_of(p, r2, f2);
+    EXPECT_EQ(again.angle.values(), cf.angle.values());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusField, testing::ValuesIn(test::kCorpusMeshes),
+                         [](const testing::TestParamInfo<const char*>& info) {
+                           return test::corpus_case_name(info.param, 0);
+                         });
+
+TEST(CorpusFieldTotal, FewerSingularitiesThanTheIrregularVerticesAllowed) {
+  std::size_t total = 0;
+  for (const char* file : test::kCorpusMeshes) {
+    ISOQUAD_CORPUS_MESH(path, file);
+    const PreparedMesh p = prepare(read_mesh(path).mesh);
+    RefinedMesh refined;
+    EdgeData<char> feature;
+    total += field_of(p, refined, feature).singular.size();
+  }
+  // A regression bound: 649 with the smoothing at h (817 without it). The layout issue's aim is
+  // at most 457 irregular vertices in the end (60% of the VSA layout's 762), which the pair
+  // cancellation and the layout's simplification are to reach.
+  EXPECT_LE(total, 700u);
+}

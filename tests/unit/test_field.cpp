@@ -1,0 +1,213 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "field/cross_field.hpp"
+#include "field/feature_curves.hpp"
+#include "pipeline/sizing.hpp"
+#include "prep/prepare.hpp"
+#include "shapes.hpp"
+
+using namespace isoquad;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+PreparedComponent prepared(const PolyMesh& m, double feature_angle = 60) {
+  PreparedMesh p = prepare(m, {.feature_angle_deg = feature_angle});
+  return std::move(p.components.at(0));
+}
+
+CrossField field_of(const PreparedComponent& c, double quads = 200) {
+  CrossFieldOptions o;
+  o.edge_length = edge_length_for_quads(c.mesh, quads);
+  return compute_cross_field(c.mesh, c.feature, o);
+}
+
+// The angle (degrees, in [0, 45]) between a 3D direction and the nearest arm of f's cross.
+double off_cross_deg(const CrossField& cf, uint32_t f, Vec3 d) {
+  const double a = cf.frames.arg(f, d) - cf.angle[f];
+  return std::abs(std::remainder(a, kPi / 2)) * 180 / kPi;
+}
+
+int count_index(const CrossField& cf, int32_t index4) {
+  return int(std::count(cf.index4.begin(), cf.index4.end(), index4));
+}
+
+int64_t index_sum(const CrossField& cf) {
+  int64_t s = 0;
+  for (int32_t i : cf.index4) s += i;
+  return s;
+}
+
+}  // namespace
+
+TEST(CrossField, FlatSquareIsConstantWithFourCornerIndices) {
+  const PreparedComponent c = prepared(test::grid_plate(12, 12));
+  const CrossField cf = field_of(c);
+  EXPECT_EQ(cf.variant, FieldVariant::linear);
+  for (uint32_t f = 0; f < c.mesh.num_faces(); ++f)
+    EXPECT_LT(off_cross_deg(cf, f, {1, 0, 0}), 1e-9) << "face " << f;
+  // The four corners are quarter-turn vertices (a convex corner: one quad); nothing else turns.
+  EXPECT_EQ(count_index(cf, 1), 4);
+  EXPECT_EQ(count_index(cf, 0), int(c.mesh.num_vertices()) - 4);
+  EXPECT_TRUE(cf.singular.empty());
+  EXPECT_NEAR(cf.energy, 0, 1e-12);
+}
+
+TEST(CrossField, OpenCylinderFollowsItsRulings) {
+  const PreparedComponent c = prepared(test::open_cylinder(32, 12));
+  const CrossField cf = field_of(c);
+  // The cylinder's axis is the coordinate axis along which it is longest.
+  const Box3 box = c.mesh.bounding_box();
+  const Vec3 ext = box.hi - box.lo;
+  const Vec3 along = ext.x > ext.y && ext.x > ext.z ? Vec3{1, 0, 0}
+                     : ext.y > ext.z                ? Vec3{0, 1, 0}
+                                                    : Vec3{0, 0, 1};
+  double worst = 0;
+  for (uint32_t f = 0; f < c.mesh.num_faces(); ++f)
+    worst = std::max(worst, off_cross_deg(cf, f, along));
+  EXPECT_LT(worst, 1.0);
+  EXPECT_EQ(index_sum(cf), 0);
+  EXPECT_TRUE(cf.singular.empty());
+}
+
+TEST(CrossField, CubeHasEightPositiveQuarterSingularitiesAtItsCorners) {
+  const PreparedComponent c = prepared(test::subdivided_cube(8));
+  const CrossField cf = field_of(c);
+  EXPECT_EQ(index_sum(cf), 4 * 2);
+  ASSERT_EQ(cf.singular.size(), 8u);
+  for (uint32_t v : cf.singular) {
+    EXPECT_EQ(cf.index4[v], 1);
+    // A cube corner: every coordinate at the box's extremes.
+    const Vec3 p = c.mesh.position(v);
+    const Box3 box = c.mesh.bounding_box();
+    for (int i = 0; i < 3; ++i)
+      EXPECT_TRUE(std::abs(p[i] - box.lo[i]) < 1e-9 || std::abs(p[i] - box.hi[i]) < 1e-9);
+  }
+}
+
+TEST(CrossField, RoundedCubeWithoutFeaturesUsesTheSmoothestField) {
+  const PreparedComponent c = prepared(test::subdivided_cube(8), 0);  // no feature edge
+  const CrossField cf = field_of(c);
+  EXPECT_EQ(cf.constrained_faces, 0u);
+  EXPECT_EQ(index_sum(cf), 8);
+  EXPECT_EQ(count_index(cf, 1), 8);
+  EXPECT_EQ(cf.singular.size(), 8u);
+}
+
+TEST(CrossField, SphereIndicesSumToTwo) {
+  const PreparedComponent c = prepared(test::icosphere(4));
+  const CrossField cf = field_of(c);
+  EXPECT_EQ(cf.variant, FieldVariant::eigen);
+  EXPECT_EQ(index_sum(cf), 8);
+  // The smoothest field on a round sphere: eight +1/4 singularities and nothing else.
+  EXPECT_EQ(count_index(cf, 1), 8);
+  EXPECT_EQ(cf.singular.size(), 8u);
+}
+
+TEST(CrossField, TorusHasNoSingularity) {
+  const PreparedComponent c = prepared(test::torus(48, 16));
+  const CrossField cf = field_of(c);
+  EXPECT_EQ(index_sum(cf), 0);
+  EXPECT_TRUE(cf.singular.empty());
+}
+
+TEST(CrossField, PlateWithStaircaseHoleSplitsConflictsAndSumsToZero) {
+  // The hole is cut out by face centroids, so its boundary has 45-degree steps: faces with an
+  // axis-aligned and a diagonal boundary edge, which no cross can follow both of.
+  const PreparedComponent c = prepared(test::plate_with_hole(12));
+  EdgeData<char> feature = c.feature;
+  const RefinedMesh r = split_constraint_conflicts(identity_refinement(c.mesh), feature);
+  EXPECT_GT(r.mesh.num_faces(), c.mesh.num_faces());
+  EXPECT_EQ(r.mesh.boundary_loops().size(), 2u);
+  CrossFieldOptions o;
+  o.edge_length = edge_length_for_quads(r.mesh, 200);
+  const CrossField cf = compute_cross_field(r.mesh, feature, o);
+  EXPECT_EQ(index_sum(cf), 0);
+  // The four outer corners are convex quarter turns; the hole's staircase turns both ways.
+  EXPECT_GE(count_index(cf, 1), 4);
+  EXPECT_GE(count_index(cf, -1), 4);
+  // Every constrained face follows its boundary edge exactly.
+  for (uint32_t f = 0; f < r.mesh.num_faces(); ++f)
+    for (uint32_t i = 0; i < 3; ++i) {
+      const uint32_t h = 3 * f + i;
+      if (r.mesh.twin(h) != kInvalid) continue;
+      const Vec3 d = r.mesh.position(r.mesh.to(h)) - r.mesh.position(r.mesh.from(h));
+      EXPECT_LT(off_cross_deg(cf, f, d), 1e-9) << "face " << f;
+    }
+}
+
+TEST(CrossField, SquareWithAxisHoleIsConstant) {
+  // A 12 x 12 grid without the 4 x 4 cells at its middle: the hole's sides are grid lines.
+  PolyMesh m;
+  const PolyMesh grid = test::grid_plate(12, 12);
+  m.positions = grid.positions;
+  for (std::size_t f = 0; f < grid.num_faces(); f += 2) {
+    const uint32_t cell = uint32_t(f / 2), i = cell % 12, j = cell / 12;
+    if (i >= 4 && i < 8 && j >= 4 && j < 8) continue;
+    m.add_face(grid.face(f));
+    m.add_face(grid.face(f + 1));
+  }
+  const PreparedComponent c = prepared(m);
+  const CrossField cf = field_of(c);
+  EXPECT_EQ(index_sum(cf), 0);
+  EXPECT_EQ(count_index(cf, 1), 4);   // outer corners: one quad each
+  EXPECT_EQ(count_index(cf, -1), 4);  // the hole's corners: three quads each
+  EXPECT_TRUE(cf.singular.empty());
+  for (uint32_t f = 0; f < c.mesh.num_faces(); ++f)
+    EXPECT_LT(off_cross_deg(cf, f, {1, 0, 0}), 1e-9) << "face " << f;
+}
+
+TEST(CrossField, SameInputGivesTheSameBits) {
+  const PreparedComponent c = prepared(test::torus(40, 14));
+  const CrossField a = field_of(c), b = field_of(c);
+  EXPECT_EQ(a.angle.values(), b.angle.values());
+  EXPECT_EQ(a.index4.values(), b.index4.values());
+}
+
+TEST(FeatureCurves, CubeEdgesAreTwelveCurvesInOneNetwork) {
+  const PreparedComponent c = prepared(test::subdivided_cube(6));
+  const std::vector<FeatureCurve> curves = feature_curves(c.mesh, c.feature);
+  ASSERT_EQ(curves.size(), 12u);
+  const Box3 box = c.mesh.bounding_box();
+  const double side = box.hi.x - box.lo.x;
+  for (const FeatureCurve& curve : curves) {
+    EXPECT_NEAR(curve.length, side, 1e-9);
+    EXPECT_EQ(curve.halfedges.size(), 6u);
+    EXPECT_FALSE(curve.closed);
+  }
+  // One network of 12 sides: kept whole below its total length, dropped whole above it.
+  uint32_t dropped = 0;
+  const EdgeData<char> kept = long_features(c.mesh, c.feature, 11.5 * side, &dropped);
+  EXPECT_EQ(dropped, 0u);
+  EXPECT_EQ(kept.values(), c.feature.values());
+  const EdgeData<char> none = long_features(c.mesh, c.feature, 12.5 * side, &dropped);
+  EXPECT_EQ(dropped, 1u);
+  EXPECT_EQ(std::count(none.begin(), none.end(), 1), 0);
+}
+
+TEST(FeatureCurves, ClosedRingIsOneClosedCurve) {
+  // The cylinder's boundary is not a feature; a feature ring is marked by hand around its middle.
+  const PreparedComponent c = prepared(test::open_cylinder(24, 8));
+  EdgeData<char> ring(c.mesh.num_edges(), 0);
+  const Box3 box = c.mesh.bounding_box();
+  const double mid = 0.5 * (box.lo.z + box.hi.z);
+  uint32_t marked = 0;
+  for (uint32_t e = 0; e < c.mesh.num_edges(); ++e) {
+    const uint32_t h = c.mesh.edge_halfedge(e);
+    if (std::abs(c.mesh.position(c.mesh.from(h)).z - mid) < 1e-9 &&
+        std::abs(c.mesh.position(c.mesh.to(h)).z - mid) < 1e-9)
+      ring[e] = 1, ++marked;
+  }
+  ASSERT_EQ(marked, 24u);
+  const std::vector<FeatureCurve> curves = feature_curves(c.mesh, ring);
+  ASSERT_EQ(curves.size(), 1u);
+  EXPECT_TRUE(curves[0].closed);
+  EXPECT_EQ(curves[0].halfedges.size(), 24u);
+  for (std::size_t i = 0; i < 24; ++i)
+    EXPECT_EQ(c.mesh.to(curves[0].halfedges[i]), c.mesh.from(curves[0].halfedges[(i + 1) % 24]));
+}
