@@ -97,6 +97,31 @@ TEST(Cli, InfoExplainsWhatRemeshWouldReject) {
   std::filesystem::remove(p);
 }
 
+// Coordinates at 1e300 and 1e-300 (remesh crashed from about 1e154 while info said "diagonal
+// inf, area -nan ... would accept"): info gives a finite diagonal and accepts, and remesh
+// writes quads; both exit 0.
+TEST(Cli, InfoAndRemeshAgreeAtExtremeScales) {
+  for (const double scale : {1e300, 1e-300}) {
+    isoquad::PolyMesh m = isoquad::test::icosphere(3);
+    for (isoquad::Vec3& p : m.positions) p = scale * p;
+    const auto in = std::filesystem::temp_directory_path() / "isoquad_cli_scaled.off";
+    const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_scaled_quads.obj";
+    isoquad::write_mesh(in, m);
+    std::filesystem::remove(out);
+    const CliRun info = run("info --json " + in.string());
+    ASSERT_EQ(info.status, 0) << scale << info.err;
+    const auto doc = nlohmann::json::parse(info.out);
+    EXPECT_EQ(doc["remesh_would_accept"], true) << scale;
+    ASSERT_TRUE(doc["bounding_box"]["diagonal"].is_number()) << scale << info.out;
+    EXPECT_NEAR(doc["bounding_box"]["diagonal"].get<double>() / scale, 2 * std::sqrt(3.0), 0.1);
+    const CliRun remesh = run("remesh -q --quads 300 " + in.string() + " -o " + out.string());
+    EXPECT_EQ(remesh.status, 0) << scale << remesh.err;
+    EXPECT_TRUE(std::filesystem::exists(out)) << scale;
+    std::filesystem::remove(in);
+    std::filesystem::remove(out);
+  }
+}
+
 TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto ply = dir / "isoquad_cli_patches.ply", png = dir / "isoquad_cli_patches.png";

@@ -474,6 +474,38 @@ TEST(Remesh, EigenEntryPoint) {
   }
 }
 
+// A sphere at coordinate scales 1e-300, 1e150 and 1e300 (where squares of coordinates
+// underflow or overflow; remesh crashed in the segmentation from about 1e154): valid quads of the
+// sphere's topology, each vertex on the input surface, measured in input units. Scaled by an
+// exact power of two (2^1000), the quads are the unit sphere's scaled, to the bit.
+TEST(Remesh, ExtremeCoordinateScalesGiveValidQuads) {
+  const PolyMesh unit = test::icosphere(3);
+  RemeshOptions o;
+  o.quads = 300;
+  const PolyMesh unit_quads = remesh_polymesh(unit, o).quads;
+  for (const double scale : {1e-300, 1e150, 1e300, std::ldexp(1.0, 1000)}) {
+    PolyMesh m = unit;
+    for (Vec3& p : m.positions) p = scale * p;
+    const PolyMesh quads = remesh_polymesh(m, o).quads;
+    const QualityReport q = measure_quality(quads, &m);
+    EXPECT_TRUE(q.pure_quad) << scale;
+    EXPECT_TRUE(q.edge_manifold && q.vertex_manifold && q.oriented) << scale;
+    EXPECT_TRUE(q.same_topology) << scale;
+    EXPECT_EQ(q.sj_surface_nonpositive, 0u) << scale;
+    EXPECT_LT(q.hausdorff, 0.02) << scale;
+    EXPECT_GT(quads.num_faces(), 200u) << scale;
+    for (const Vec3& p : quads.positions) {
+      ASSERT_TRUE(is_finite(p)) << scale;
+      EXPECT_NEAR(norm(p / scale), 1.0, 0.02) << scale;  // the icosphere's radius is 1
+    }
+    if (scale == std::ldexp(1.0, 1000)) {
+      ASSERT_EQ(quads.face_vertices, unit_quads.face_vertices);
+      for (std::size_t v = 0; v < quads.num_vertices(); ++v)
+        EXPECT_EQ(quads.positions[v], ldexp(unit_quads.positions[v], 1000)) << v;
+    }
+  }
+}
+
 // Three disjoint shapes in one input (a sphere, a torus and an open plate): each component is
 // remeshed on its own, with its share of the count by area, and the quads are merged. The
 // output has the input's three components, Euler characteristic (2 + 0 + 1) and boundary loop;
