@@ -28,7 +28,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version end here too, with status 0. Every refused command line is invalid
+    // input, as a refused mesh is (CLI11's own statuses were 104 to 109).
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    std::fprintf(stderr, "isoquad: error: %s\nRun with --help for more information.\n", e.what());
+    return static_cast<int>(isoquad::ErrorKind::invalid_input);
   }
   try {
     for (auto& [sub, run] : commands)

@@ -122,6 +122,75 @@ TEST(Cli, InfoAndRemeshAgreeAtExtremeScales) {
   }
 }
 
+// Option values out of range were read as the default (--quads 0 and --quads -5 ran at the
+// default size): each is refused, naming the option and the value, with the status of invalid
+// input and no output; so is every other refused command line (CLI11's statuses were 104-109).
+TEST(Cli, OptionValuesOutOfRangeAreRefused) {
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_refused.obj";
+  std::filesystem::remove(out);
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"--quads 0", "--quads: 0 is not a quad count"},
+      {"--quads -5", "--quads: -5 is not a quad count"},
+      {"--quads many", "--quads: many is not a number"},
+      {"--edge-length -1", "--edge-length: -1 is not a positive length"},
+      {"--edge-length 0", "--edge-length: 0 is not a positive length"},
+      {"--edge-length inf", "--edge-length: inf is not a positive length"},
+      {"--patches 0", "--patches: a patch count must be positive"},
+      {"--feature-angle 181", "--feature-angle: 181 is not an angle in [0, 180]"},
+      {"--feature-angle -1", "--feature-angle: -1 is not an angle"},
+      {"--weld-eps 0.5", "--weld-eps: 0.5 is not a fraction"},
+      {"--threads -1", "--threads: -1 is not a thread count"},
+      {"--quads 500 --edge-length 0.1", "--edge-length excludes --quads"}};
+  for (const auto& [option, message] : cases) {
+    const CliRun r = run("remesh " + sphere + " -o " + out.string() + " -q " + option);
+    EXPECT_EQ(r.status, 2) << option << ": " << r.err;
+    EXPECT_NE(r.err.find("isoquad: error: " + message), std::string::npos) << option << r.err;
+    EXPECT_TRUE(r.out.empty()) << option;
+    EXPECT_FALSE(std::filesystem::exists(out)) << option;
+  }
+  const CliRun size = run("render " + sphere + " -o " + out.string() + ".png --size -5");
+  EXPECT_EQ(size.status, 2) << size.err;  // was an internal error, 70, from the PNG encoder
+  EXPECT_NE(size.err.find("--size"), std::string::npos) << size.err;
+  EXPECT_EQ(run("remesh " + sphere).status, 2);  // -o is required
+}
+
+// The output path is checked before the input is read (bunny00 ran 3 s and then said "cannot
+// write this format"): here the input does not even exist, and the error is the output's.
+TEST(Cli, OutputPathIsCheckedBeforeAnyWork) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string missing = (dir / "isoquad_cli_no_such_input.off").string();
+  const CliRun stl = run("remesh " + missing + " -o " + (dir / "x.stl").string());
+  EXPECT_EQ(stl.status, 2);
+  EXPECT_NE(stl.err.find("x.stl: cannot write this format"), std::string::npos) << stl.err;
+  EXPECT_NE(stl.err.find("[E002]"), std::string::npos) << stl.err;
+  const CliRun folder = run("remesh " + missing + " -o /nonexistent_isoquad/x.obj");
+  EXPECT_EQ(folder.status, 2);
+  EXPECT_NE(folder.err.find("the folder /nonexistent_isoquad does not exist [E001]"),
+            std::string::npos)
+      << folder.err;
+  const CliRun is_dir = run("remesh " + missing + " -o " + dir.string());
+  EXPECT_EQ(is_dir.status, 2);
+  EXPECT_EQ(is_dir.err.find("no such file"), std::string::npos) << is_dir.err;
+  const auto file = write_temp("isoquad_cli_a_file", "not a folder");
+  const CliRun report = run("remesh " + missing + " -o " + (dir / "x.obj").string() + " --report " +
+                            (file / "report").string());
+  EXPECT_EQ(report.status, 2);
+  EXPECT_NE(report.err.find(file.string() + " is not a folder [E001]"), std::string::npos)
+      << report.err;
+  std::filesystem::remove(file);
+  const CliRun seg = run("segment " + missing + " -o " + (dir / "x.stl").string());
+  EXPECT_NE(seg.err.find("cannot write this format"), std::string::npos) << seg.err;
+  const CliRun png = run("render " + missing + " -o /nonexistent_isoquad/x.png");
+  EXPECT_NE(png.err.find("does not exist [E001]"), std::string::npos) << png.err;
+  const CliRun param = run("param " + missing + " --svg /nonexistent_isoquad/x.svg");
+  EXPECT_NE(param.err.find("does not exist [E001]"), std::string::npos) << param.err;
+  // The input's own error once the output is fine.
+  const CliRun input = run("remesh " + missing + " -o " + (dir / "x.obj").string());
+  EXPECT_EQ(input.status, 2);
+  EXPECT_NE(input.err.find("no such file"), std::string::npos) << input.err;
+}
+
 TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto ply = dir / "isoquad_cli_patches.ply", png = dir / "isoquad_cli_patches.png";
@@ -180,10 +249,11 @@ TEST(Cli, LayoutReportsChartsAndLengths) {
             v5 = v.contains("5") ? v["5"].get<int>() : 0,
             v6 = v.contains("6") ? v["6"].get<int>() : 0;
   EXPECT_EQ(v3, v5 + 2 * v6);
+  // A refused option value is invalid input, as everywhere (CLI11 exited 105).
   EXPECT_EQ(
       run("layout " + (isoquad::test::data_dir() / "rotor.off").string() + " --corners sideways")
           .status,
-      105);
+      2);
 }
 
 TEST(Cli, RemeshQualityAndParamOnSampleMeshes) {

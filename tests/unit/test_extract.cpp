@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <random>
 
@@ -504,6 +505,42 @@ TEST(Remesh, ExtremeCoordinateScalesGiveValidQuads) {
         EXPECT_EQ(quads.positions[v], ldexp(unit_quads.positions[v], 1000)) << v;
     }
   }
+}
+
+// An option out of its range is refused (E003) before any work instead of read as the
+// default (quads = -5 ran at the default size); quads = 0 and edge_length = 0 mean "not given".
+TEST(Remesh, OptionsOutOfRangeAreRefused) {
+  const PolyMesh sphere = test::icosphere(2);
+  const auto code_of = [&](const RemeshOptions& o) -> std::string {
+    try {
+      remesh_polymesh(sphere, o);
+    } catch (const Error& e) {
+      return e.code();
+    }
+    return "accepted";
+  };
+  const std::vector<std::function<void(RemeshOptions&)>> bad{
+      [](RemeshOptions& o) { o.quads = -5; },
+      [](RemeshOptions& o) { o.quads = 0.5; },
+      [](RemeshOptions& o) { o.quads = NAN; },
+      [](RemeshOptions& o) { o.quads = INFINITY; },
+      [](RemeshOptions& o) { o.edge_length = -1; },
+      [](RemeshOptions& o) { o.edge_length = NAN; },
+      [](RemeshOptions& o) { o.edge_length = INFINITY; },
+      [](RemeshOptions& o) { o.quads = 100, o.edge_length = 0.1; },
+      [](RemeshOptions& o) { o.feature_angle_deg = -1; },
+      [](RemeshOptions& o) { o.feature_angle_deg = 181; },
+      [](RemeshOptions& o) { o.relax = "none"; },
+      [](RemeshOptions& o) { o.tolerance = 0.01, o.tolerance_rounds = 0; }};
+  for (std::size_t i = 0; i < bad.size(); ++i) {
+    RemeshOptions o;
+    bad[i](o);
+    EXPECT_EQ(code_of(o), "E003") << "case " << i;
+  }
+  RemeshOptions fine;
+  fine.quads = 100;
+  fine.feature_angle_deg = 0;
+  EXPECT_EQ(code_of(fine), "accepted");
 }
 
 // Three disjoint shapes in one input (a sphere, a torus and an open plate): each component is
