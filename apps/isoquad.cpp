@@ -1,6 +1,8 @@
 // isoquad: the command line, a thin shell over the library. Only this layer prints and exits.
 #include <fmt/format.h>
 #include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "isoquad/error.hpp"
@@ -34,15 +36,28 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "isoquad: error: %s\nRun with --help for more information.\n", e.what());
     return static_cast<int>(isoquad::ErrorKind::invalid_input);
   }
+  CLI::App* parsed = nullptr;
+  for (auto& [sub, run] : commands)
+    if (sub->parsed()) parsed = sub;
+  // With --json, stdout is one JSON document whatever happens: on failure, the error.
+  const CLI::Option* json = parsed ? parsed->get_option_no_throw("--json") : nullptr;
+  const auto fail = [&](int status, const std::string& code, const char* what) {
+    if (json && json->count() > 0)
+      std::cout << nlohmann::json{{"error",
+                                   {{"code", code}, {"message", what}, {"exit_status", status}}}}
+                       .dump(2)
+                << '\n';
+    return status;
+  };
   try {
     for (auto& [sub, run] : commands)
-      if (sub->parsed()) return run();
+      if (sub == parsed) return run();
   } catch (const isoquad::Error& e) {
     std::fprintf(stderr, "isoquad: error: %s\n", e.what());
-    return e.exit_status();
+    return fail(e.exit_status(), e.code(), e.what());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "isoquad: internal error: %s\n", e.what());
-    return static_cast<int>(isoquad::ErrorKind::internal);
+    return fail(static_cast<int>(isoquad::ErrorKind::internal), "E700", e.what());
   }
   return 0;
 }

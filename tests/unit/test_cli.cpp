@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "corpus.hpp"
@@ -189,6 +190,39 @@ TEST(Cli, OutputPathIsCheckedBeforeAnyWork) {
   const CliRun input = run("remesh " + missing + " -o " + (dir / "x.obj").string());
   EXPECT_EQ(input.status, 2);
   EXPECT_NE(input.err.find("no such file"), std::string::npos) << input.err;
+}
+
+// With --json, stdout is one JSON document whatever happens. A sphere with a vertex moved onto
+// its neighbour (coincident vertices, zero-area triangles) has a singular system, and CHOLMOD
+// printed "CHOLMOD warning: not positive definite" on stdout before the document; on failure
+// the document is the error.
+TEST(Cli, RemeshJsonStdoutIsOneDocumentWhateverHappens) {
+  const auto in = std::filesystem::temp_directory_path() / "isoquad_cli_coincident.off";
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_coincident_quads.obj";
+  std::set<std::string> codes;
+  for (const uint32_t v : {5u, 40u, 100u, 200u, 300u}) {
+    isoquad::PolyMesh m = isoquad::test::icosphere(3);
+    m.positions[v] = m.positions[m.face(0)[0] == v ? m.face(0)[1] : m.face(0)[0]];
+    for (std::size_t f = 0; f < m.num_faces(); ++f)  // a neighbour of v instead, where it has one
+      for (std::size_t k = 0; k < 3; ++k)
+        if (m.face(f)[k] == v) m.positions[v] = m.positions[m.face(f)[(k + 1) % 3]];
+    isoquad::write_mesh(in, m);
+    const CliRun r = run("remesh --quads 300 --json " + in.string() + " -o " + out.string());
+    EXPECT_EQ(r.out.find("CHOLMOD"), std::string::npos) << v << r.out;
+    nlohmann::json doc;
+    ASSERT_NO_THROW(doc = nlohmann::json::parse(r.out)) << v << ": " << r.out;
+    if (r.status == 0) {
+      EXPECT_TRUE(doc.contains("quality")) << v;
+    } else {
+      EXPECT_EQ(doc["error"]["exit_status"], r.status) << v;
+      codes.insert(doc["error"]["code"].get<std::string>());
+      EXPECT_NE(r.err.find("isoquad: error:"), std::string::npos) << v << r.err;
+    }
+  }
+  // The failure CHOLMOD printed its warning for (its factorization) was among them.
+  EXPECT_EQ(codes.count("E551"), 1u);
+  std::filesystem::remove(in);
+  std::filesystem::remove(out);
 }
 
 TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
