@@ -225,6 +225,31 @@ TEST(Cli, RemeshJsonStdoutIsOneDocumentWhateverHappens) {
   std::filesystem::remove(out);
 }
 
+// A mistyped subcommand or option is named, with the nearest valid one (CLI11 said "A
+// subcommand is required" for `isoquad remsh`), and the status is that of invalid input.
+TEST(Cli, UnknownSubcommandAndOptionAreNamedWithASuggestion) {
+  const CliRun sub = run("remsh");
+  EXPECT_EQ(sub.status, 2);
+  EXPECT_NE(sub.err.find("isoquad: error: unknown subcommand 'remsh'; did you mean 'remesh'?"),
+            std::string::npos)
+      << sub.err;
+  const CliRun far = run("frobnicate");
+  EXPECT_EQ(far.status, 2);
+  EXPECT_NE(far.err.find("unknown subcommand 'frobnicate'\n"), std::string::npos) << far.err;
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_typo.obj";
+  const CliRun opt = run("remesh " + sphere + " -o " + out.string() + " --quad 5");
+  EXPECT_EQ(opt.status, 2);
+  EXPECT_NE(opt.err.find("unknown option '--quad' for remesh; did you mean '--quads'?"),
+            std::string::npos)
+      << opt.err;
+  const CliRun negated = run("layout " + sphere + " --no-improve-corner");
+  EXPECT_EQ(negated.status, 2);
+  EXPECT_NE(negated.err.find("did you mean '--no-improve-corners'?"), std::string::npos)
+      << negated.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto ply = dir / "isoquad_cli_patches.ply", png = dir / "isoquad_cli_patches.png";
