@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <tuple>
@@ -12,6 +13,7 @@
 #include "commands.hpp"
 #include "field/cross_field.hpp"
 #include "io/read_mesh.hpp"
+#include "io/write_mesh.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
 #include "prep_options.hpp"
@@ -133,19 +135,25 @@ Runner add_field(CLI::App& app) {
   sub->add_option("mesh", a->mesh, "Input mesh")->required();
   sub->add_option("--png", a->png, "Picture of the crosses, features and singularities");
   auto* el = sub->add_option("--edge-length", a->edge_length,
-                             "Target quad edge length (input units): the field's scale");
+                             "Target quad edge length (input units): the field's scale")
+                 ->check(number_in(std::numeric_limits<double>::min(),
+                                   std::numeric_limits<double>::max(), "a positive length"));
   sub->add_option("--quads", a->quads, "Target number of quads, for the field's scale")
+      ->check(number_in(1, 1e9, "a quad count in [1, 1e9]"))
       ->excludes(el);
   sub->add_option("--smoothing", a->smoothing,
-                  "Solve on the surface smoothed over this many (h / mean edge)^2 rounds; 0: off")
+                  "Solve on the surface smoothed by mean curvature flow for this many h^2; 0: off")
+      ->check(number_in(0, 100, "a smoothing time in [0, 100] h^2"))
       ->capture_default_str();
   sub->add_option("--min-feature", a->min_feature,
-                  "Feature curves shorter than this many h do not constrain the field")
+                  "Feature networks shorter than this many h in all do not constrain the field")
+      ->check(number_in(0, 1e9, "a length in h, at least 0"))
       ->capture_default_str();
   sub->add_flag("--no-curvature", a->no_curvature, "No pull towards principal directions");
   sub->add_flag("--json", a->json, "Print a JSON summary");
   add_prep_options(*sub, a->prep);
   return [a] {
+    if (!a->png.empty()) check_output_path(a->png);
     const ReadResult read = read_mesh(a->mesh, a->prep.read_options());
     const PreparedMesh prep = prepare(read.mesh, a->prep.prep_options(read));
     double total_area = 0;

@@ -86,6 +86,8 @@ Runner add_param(CLI::App& app) {
   sub->add_flag("--json", a->json, "Print the report as JSON");
   add_prep_options(*sub, a->prep);
   return [a] {
+    if (!a->output.empty()) check_output_path(a->output);
+    if (!a->svg.empty()) check_output_path(a->svg);
     const ReadResult read = read_mesh(a->mesh, a->prep.read_options());
     const PreparedMesh prep = prepare(read.mesh, a->prep.prep_options(read));
     PipelineOptions o;

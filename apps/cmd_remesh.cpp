@@ -110,7 +110,7 @@ Runner add_remesh(CLI::App& app) {
                   "more quads, at most --tolerance-rounds times and up to 4 times the first "
                   "count; the closest result with no more folded quads is kept. Each round is a "
                   "whole run (0: off, the default; refused with --quads or --edge-length)")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(number_in(0, 1, "a fraction in [0, 1]"))
       ->capture_default_str();
   sub->add_option("--tolerance-rounds", a->tolerance_rounds,
                   "How often at most --tolerance asks for more quads")
@@ -118,6 +118,7 @@ Runner add_remesh(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--threads", a->threads,
                   "Worker threads at most (0: one per core); the output is the same for any count")
+      ->check(number_in(0, 1e6, "a thread count (0: one per core)"))
       ->capture_default_str();
   sub->add_option("--report", a->report_dir,
                   "Write pictures (Figures 1 and 3 of the paper), layout.svg, report.json and "
@@ -137,6 +138,8 @@ Runner add_remesh(CLI::App& app) {
     auto say = [&](const std::string& s) {
       if (!a->quiet) fmt::print(stderr, "{}\n", s);
     };
+    check_mesh_output(a->output);
+    if (!a->report_dir.empty()) check_output_folder(a->report_dir);
     const ReadResult read = read_mesh(a->input, a->prep.read_options());
     say(fmt::format("read {}: {} vertices, {} faces", a->input, read.mesh.num_vertices(),
                     read.mesh.num_faces()));

@@ -3,6 +3,7 @@
 
 #include "commands.hpp"
 #include "io/read_mesh.hpp"
+#include "io/write_mesh.hpp"
 #include "viz/render.hpp"
 
 namespace isoquad::cli {
@@ -26,8 +27,11 @@ Runner add_render(CLI::App& app) {
                   "Viewing direction x y z (towards the model; default: the three-quarter view "
                   "that shows the most surface)")
       ->expected(3);
-  sub->add_option("--size", a->width, "Width in pixels")->capture_default_str();
+  sub->add_option("--size", a->width, "Width in pixels")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
   return [a] {
+    check_output_path(a->output);
     const ReadResult r = read_mesh(a->mesh);
     const PolyMesh& m = r.mesh;
     Box3 box;

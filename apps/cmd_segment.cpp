@@ -35,6 +35,8 @@ Runner add_segment(CLI::App& app) {
   sub->add_flag("--json", a->json, "Print a JSON summary");
   add_prep_options(*sub, a->prep);
   return [a] {
+    if (!a->output.empty()) check_mesh_output(a->output);
+    if (!a->png.empty()) check_output_path(a->png);
     const ReadResult read = read_mesh(a->mesh, a->prep.read_options());
     const PreparedMesh prep = prepare(read.mesh, a->prep.prep_options(read));
     PolyMesh out;

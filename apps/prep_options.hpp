@@ -1,8 +1,9 @@
 // Input options shared by every subcommand that reads a mesh.
 #pragma once
 
+#include <fmt/format.h>
 #include <CLI/CLI.hpp>
-#include <map>
+#include <limits>
 #include <string>
 
 #include "io/read_mesh.hpp"
@@ -11,6 +12,19 @@
 #include "seg/segment.hpp"
 
 namespace isoquad::cli {
+
+// A number within [lo, hi], refused with `what` it should be. CLI11's own numeric validators
+// print their bounds with %f ("0 not in range 0.000000 to 1797693134862315...").
+inline CLI::Validator number_in(double lo, double hi, const std::string& what) {
+  return CLI::Validator(
+      [=](const std::string& text) {
+        double x = 0;
+        if (!CLI::detail::lexical_cast(text, x)) return fmt::format("{} is not a number", text);
+        if (!(x >= lo && x <= hi)) return fmt::format("{} is not {}", text, what);
+        return std::string();
+      },
+      "NUMBER");
+}
 
 struct PrepArgs {
   bool repair = false;
@@ -37,14 +51,14 @@ inline void add_prep_options(CLI::App& sub, PrepArgs& a) {
   sub.add_option("--weld-eps", a.weld_eps,
                  "Weld boundary vertices closer than this fraction of the bounding-box diagonal")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.1));
+      ->check(number_in(0, 0.1, "a fraction in [0, 0.1]"));
   sub.add_option("--min-component-faces", a.min_component_faces,
                  "Drop connected components with fewer faces (with a warning)")
       ->capture_default_str();
   sub.add_option("--feature-angle", a.feature_angle,
                  "Dihedral angle in degrees above which an edge is a feature (0: none)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 180.0));
+      ->check(number_in(0, 180, "an angle in [0, 180] degrees"));
 }
 
 // Patch count, size and seed: shared by the subcommands that segment.
@@ -58,10 +72,20 @@ inline void add_patch_options(CLI::App& sub, PatchArgs& a) {
   sub.add_option("--patches", a.patches,
                  "Number of patches K, or auto (the default): K from the VSA error drop, "
                  "bounded by the target size")
-      ->transform(CLI::Transformer(std::map<std::string, std::string>{{"auto", "0"}}));
-  auto* el =
-      sub.add_option("--edge-length", a.edge_length, "Target quad edge length (input units)");
+      ->transform(CLI::Validator(
+          [](std::string& k) {
+            if (k == "auto")
+              k = "0";  // 0 is how the options say automatic
+            else if (k.find_first_not_of("0") == std::string::npos)
+              return std::string("a patch count must be positive (or auto)");
+            return std::string();
+          },
+          "K|auto"));
+  auto* el = sub.add_option("--edge-length", a.edge_length, "Target quad edge length (input units)")
+                 ->check(number_in(std::numeric_limits<double>::min(),
+                                   std::numeric_limits<double>::max(), "a positive length"));
   sub.add_option("--quads", a.quads, "Target number of quads (the size is tuned to land near it)")
+      ->check(number_in(1, 1e9, "a quad count in [1, 1e9]"))
       ->excludes(el);
   sub.add_option("--seed", a.seed, "Random seed")->capture_default_str();
 }

@@ -17,7 +17,7 @@ namespace isoquad {
 struct RemeshOptions {
   uint32_t patches = 0;    // K; 0: automatic
   double edge_length = 0;  // target quad edge length (input units); 0: from quads
-  double quads = 0;        // target quad count; 0: one per 8 input triangles (1,000-20,000)
+  double quads = 0;        // target quad count (>= 1); 0: one per 8 input triangles (1,000-20,000)
   uint64_t seed = 1;
   bool paper_weights = false;      // Floater's mean value weights (default: symmetrized, SPD)
   std::string relax = "adaptive";  // adaptive, bisection or locked
@@ -60,6 +60,10 @@ struct RemeshResult {
   std::string report;     // JSON: per-component stages, counts, timings; quality
 };
 
+// \throw Error(invalid_input) E003 an option out of its range (quads neither 0 nor at least 1,
+//        a negative or non-finite edge length, both of them, a feature angle outside [0, 180],
+//        ...), E020 wrong shapes or an index out of range, E013 a NaN or infinite coordinate;
+//        and the errors of the stages (README).
 RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                     const RemeshOptions& options = {});
 

@@ -2,7 +2,9 @@
 // solve systems; geometry code that only needs +, -, dot and cross uses these.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace isoquad {
 
@@ -36,6 +38,34 @@ inline Vec3 normalized(Vec3 a) {
 inline bool is_finite(Vec3 a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
+// a times 2^k: exact while the result stays in the normal range.
+inline Vec3 ldexp(Vec3 a, int k) {
+  return {std::ldexp(a.x, k), std::ldexp(a.y, k), std::ldexp(a.z, k)};
+}
+// |a| without overflow or underflow in the squares (1e154 and 1e-162 are where dot(a, a) ends):
+// a is first scaled by a power of two, exactly, so the bits are norm(a)'s wherever that is
+// finite and nonzero. Infinite only where |a| itself is beyond the largest double.
+inline double scaled_norm(Vec3 a) {
+  const double m = std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)});
+  if (!(m > 0) || !std::isfinite(m)) return m;  // 0, inf or NaN
+  const int k = std::ilogb(m);
+  return std::ldexp(norm(ldexp(a, -k)), k);
+}
+// The least k with every finite |coordinate| below 2^k (0 without a nonzero one). Coordinates
+// scaled by 2^-k are below 1, and their squares and cross products neither overflow nor
+// underflow.
+inline int magnitude_exponent(const std::vector<Vec3>& points) {
+  double m = 0;
+  for (const Vec3& p : points)
+    for (int i = 0; i < 3; ++i)
+      if (std::isfinite(p[i])) m = std::max(m, std::fabs(p[i]));
+  int k = 0;
+  if (m > 0) std::frexp(m, &k);
+  return k;
+}
+// Coordinates within 2^±kSafeExponent keep products of up to four of them in the normal range;
+// code that multiplies coordinates scales meshes beyond it by 2^-magnitude_exponent first.
+constexpr int kSafeExponent = 128;
 
 // Axis-aligned bounding box; empty until the first point is added.
 struct Box3 {
@@ -50,8 +80,10 @@ struct Box3 {
     }
   }
   bool empty() const { return lo.x > hi.x; }
-  Vec3 center() const { return 0.5 * (lo + hi); }
-  double diagonal() const { return empty() ? 0.0 : norm(hi - lo); }
+  // Halves first, so neither overflows for any finite bounds (the same bits as 0.5 * (lo + hi)
+  // and norm(hi - lo) where those are finite).
+  Vec3 center() const { return 0.5 * lo + 0.5 * hi; }
+  double diagonal() const { return empty() ? 0.0 : 2 * scaled_norm(0.5 * hi - 0.5 * lo); }
 };
 
 }  // namespace isoquad

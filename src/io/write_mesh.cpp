@@ -167,6 +167,34 @@ void write_mesh(const std::filesystem::path& path, const PolyMesh& mesh,
       format == MeshFormat::ply && options.ply_binary);
 }
 
+void check_output_path(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) fail_write(path, "is a folder, not a file");
+  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
+  if (!std::filesystem::is_directory(folder, ec))
+    fail_write(path,
+               fmt::format("cannot be written: the folder {} does not exist", folder.string()));
+  if (::access(folder.c_str(), W_OK) != 0)
+    fail_write(path,
+               fmt::format("cannot be written: the folder {} is not writable", folder.string()));
+}
+
+void check_output_folder(const std::filesystem::path& folder) {
+  std::error_code ec;
+  std::filesystem::path existing = std::filesystem::absolute(folder, ec);
+  while (!std::filesystem::exists(existing, ec) && existing.has_relative_path())
+    existing = existing.parent_path();
+  if (!std::filesystem::is_directory(existing, ec))
+    fail_write(folder, fmt::format("cannot be created: {} is not a folder", existing.string()));
+  if (::access(existing.c_str(), W_OK) != 0)
+    fail_write(folder, fmt::format("cannot be created: {} is not writable", existing.string()));
+}
+
+void check_mesh_output(const std::filesystem::path& path) {
+  output_format(path);
+  check_output_path(path);
+}
+
 void write_file_atomically(const std::filesystem::path& path,
                            const std::function<void(std::ostream&)>& fill, bool binary) {
   std::filesystem::path tmp = path;

@@ -25,6 +25,16 @@ void write_mesh(const std::filesystem::path& path, const PolyMesh& mesh,
 void write_mesh(std::ostream& out, const PolyMesh& mesh, MeshFormat format,
                 const WriteOptions& options = {});
 
+// What write_mesh and write_file_atomically would refuse, checked before any work (a remesh of
+// seconds should not end on a path it cannot write): `path` is not a folder and its folder exists
+// and is writable (else E001); for check_mesh_output, also a writable mesh format (E002).
+// \throw Error(invalid_input) as above.
+void check_output_path(const std::filesystem::path& path);
+void check_mesh_output(const std::filesystem::path& path);
+// For a folder to be created (with its parents) and written: the nearest existing one of it
+// and its ancestors is a writable folder.
+void check_output_folder(const std::filesystem::path& folder);
+
 // Writes through `fill` into a temporary file, then renames it to `path`. The one atomic-write
 // helper (reports and pictures use it too).
 void write_file_atomically(const std::filesystem::path& path,

@@ -255,6 +255,18 @@ Topology topology_of(const PolyMesh& m, bool* edge_manifold, bool* vertex_manifo
 
 QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
                               const QualityOptions& options) {
+  // Distances and Jacobians square coordinates: meshes near the ends of the double range are
+  // measured at a power-of-two scale (exact), and the lengths scaled back.
+  const int exponent = magnitude_exponent(reference ? reference->positions : m.positions);
+  if (std::abs(exponent) > kSafeExponent) {
+    PolyMesh ms = m, rs = reference ? *reference : PolyMesh{};
+    for (Vec3& p : ms.positions) p = ldexp(p, -exponent);
+    for (Vec3& p : rs.positions) p = ldexp(p, -exponent);
+    QualityReport q = measure_quality(ms, reference ? &rs : nullptr, options);
+    q.edge_mean = std::ldexp(q.edge_mean, exponent);
+    q.hausdorff_at = ldexp(q.hausdorff_at, exponent);
+    return q;
+  }
   QualityReport q;
   q.vertices = m.num_vertices();
   q.faces = m.num_faces();

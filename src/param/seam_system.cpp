@@ -350,6 +350,9 @@ struct SeamSystem::Impl {
     auto t0 = Clock::now();
     if (!is_analyzed) {
       if constexpr (requires { solver.cholmod(); }) {
+        // CHOLMOD prints its warnings (not positive definite: coincident vertices) on stdout,
+        // into a --json document; the failure is reported as an Error (E551) instead.
+        solver.cholmod().print = 0;
         solver.cholmod().nmethods = 1;
         solver.cholmod().method[0].ordering = ordering;
       }

@@ -45,6 +45,30 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"misfit_split", o.misfit_split}};
 }
 
+// Every option out of its range is refused (E003) before any work, rather than read as the
+// default: quads = -5 or NaN ran at the default size.
+void check_options(const RemeshOptions& o) {
+  const auto refuse = [](const std::string& what) {
+    throw Error(ErrorKind::invalid_input, "E003", what);
+  };
+  if (!(o.quads == 0 || (o.quads >= 1 && std::isfinite(o.quads))))
+    refuse(fmt::format("quads {} is not a quad count (at least 1; 0 for the default)", o.quads));
+  if (!(o.edge_length >= 0 && std::isfinite(o.edge_length)))
+    refuse(
+        fmt::format("edge length {} is not a length (positive; 0 for the default)", o.edge_length));
+  if (o.quads > 0 && o.edge_length > 0) refuse("give a quad count or an edge length, not both");
+  if (!(o.feature_angle_deg >= 0 && o.feature_angle_deg <= 180))
+    refuse(fmt::format("feature angle {} is not in [0, 180] degrees", o.feature_angle_deg));
+  if (o.relax != "adaptive" && o.relax != "bisection" && o.relax != "locked")
+    refuse(fmt::format("unknown relaxation '{}' (adaptive, bisection or locked)", o.relax));
+  if (!(o.tolerance >= 0 && o.tolerance <= 1))
+    refuse(fmt::format("tolerance {} is not a fraction of the diagonal in [0, 1]", o.tolerance));
+  if (o.tolerance > 0 && (o.quads > 0 || o.edge_length > 0))
+    refuse("tolerance chooses the size itself: give it without a quad count or edge length");
+  if (o.tolerance > 0 && o.tolerance_rounds == 0)
+    refuse("tolerance rounds must be at least 1 with a tolerance");
+}
+
 }  // namespace
 
 PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
@@ -57,16 +81,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   auto say = [&](const std::string& s) {
     if (progress) progress(s);
   };
-  if (opt.relax != "adaptive" && opt.relax != "bisection" && opt.relax != "locked")
-    throw Error(ErrorKind::invalid_input, "E003",
-                fmt::format("unknown relaxation '{}' (adaptive, bisection or locked)", opt.relax));
-  if (!(opt.tolerance >= 0 && opt.tolerance <= 1))
-    throw Error(
-        ErrorKind::invalid_input, "E003",
-        fmt::format("tolerance {} is not a fraction of the diagonal in [0, 1]", opt.tolerance));
-  if (opt.tolerance > 0 && (opt.quads > 0 || opt.edge_length > 0))
-    throw Error(ErrorKind::invalid_input, "E003",
-                "tolerance chooses the size itself: give it without a quad count or edge length");
+  check_options(opt);
   // Parallel stages are deterministic: the thread count changes the time, not the output.
   std::optional<tbb::global_control> limit;
   if (opt.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, opt.threads);

@@ -31,9 +31,27 @@ void note(InputReport& r, Severity severity, const char* code, uint32_t count,
   throw Error(kind, code, msg, ctx);
 }
 
-// Angle and area statistics of a kept component, in its normalized coordinates.
+// A NaN or infinite coordinate (which the readers reject, E013, but a library caller may pass)
+// makes every derived value NaN: it is rejected, naming the first such vertex. False when
+// diagnosing and the vertex is recorded instead.
+bool check_finite(const PolyMesh& input, const PrepOptions& options, InputReport& report) {
+  for (uint32_t v = 0; v < input.num_vertices(); ++v) {
+    const Vec3 p = input.positions[v];
+    if (is_finite(p)) continue;
+    const std::string msg =
+        fmt::format("vertex {} has a NaN or infinite coordinate ({}, {}, {})", v, p.x, p.y, p.z);
+    if (!options.diagnose) reject(ErrorKind::invalid_input, "E013", msg, {v});
+    report.issues.push_back({Severity::error, "E013", msg, 1});
+    return false;
+  }
+  return true;
+}
+
+// Angle and area statistics of a kept component, in its normalized coordinates; the area is
+// reported in input units, normalized / scale^2 times 4^to_input (inf or 0 where that is
+// beyond the double range: a sphere of radius 1e300).
 void shape_statistics(const std::vector<Vec3>& positions, const std::vector<Tri>& tris,
-                      double scale, ComponentReport& r) {
+                      double scale, int to_input, ComponentReport& r) {
   double min_angle = std::numbers::pi;
   double area = 0;
   for (const Tri& t : tris) {
@@ -47,22 +65,38 @@ void shape_statistics(const std::vector<Vec3>& positions, const std::vector<Tri>
       min_angle = std::min(min_angle, angle_between(u, v));
     }
   }
-  r.area = area / (scale * scale);
+  r.area = std::ldexp(area / (scale * scale), 2 * to_input);
   r.min_angle_deg = min_angle * 180.0 / std::numbers::pi;
 }
 
 }  // namespace
 
-PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
+PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
   PreparedMesh out;
   InputReport& report = out.report;
-  report.input_vertices = uint32_t(soup.num_vertices());
-  report.input_faces = uint32_t(soup.num_faces());
-  for (std::size_t f = 0; f < soup.num_faces(); ++f)
-    if (soup.face(f).size() > 3) ++report.input_polygons;
-  for (const Vec3& p : soup.positions) report.bounding_box.add(p);
+  report.input_vertices = uint32_t(input.num_vertices());
+  report.input_faces = uint32_t(input.num_faces());
+  for (std::size_t f = 0; f < input.num_faces(); ++f)
+    if (input.face(f).size() > 3) ++report.input_polygons;
+  if (!check_finite(input, options, report)) return out;
+  for (const Vec3& p : input.positions) report.bounding_box.add(p);
 
-  const double weld_eps = options.weld_epsilon * report.bounding_box.diagonal();
+  // Everything below squares coordinates (distances, areas, cross products), which overflows
+  // from about 1e154 and underflows below 1e-154: a mesh that far out is scaled by a power of
+  // two first, exactly, so it gives the same quads as the mesh at unit scale.
+  const int exponent = magnitude_exponent(input.positions);
+  const bool rescale = std::abs(exponent) > kSafeExponent;
+  PolyMesh rescaled;
+  if (rescale) {
+    rescaled = input;
+    for (Vec3& p : rescaled.positions) p = ldexp(p, -exponent);
+  }
+  const PolyMesh& soup = rescale ? rescaled : input;
+  const int to_input = rescale ? exponent : 0;  // working units times 2^to_input: input units
+
+  Box3 box;
+  for (const Vec3& p : soup.positions) box.add(p);
+  const double weld_eps = options.weld_epsilon * box.diagonal();
   const auto weld = prep::weld_map(soup, options.weld_all, weld_eps, report.welded_vertices);
   prep::Soup s = prep::triangulate(soup, weld, report);
   note(report, Severity::repaired, "W104", report.welded_vertices,
@@ -122,8 +156,9 @@ PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
     report.issues.push_back({Severity::error, "E103", msg, 1});
     return out;
   }
-  out.normalization.center = kept_box.center();
-  out.normalization.scale = 1.0 / kept_box.diagonal();
+  const Normalization working{kept_box.center(), 1.0 / kept_box.diagonal()};
+  out.normalization.center = ldexp(working.center, to_input);
+  out.normalization.scale = std::ldexp(working.scale, -to_input);
 
   std::vector<uint32_t> local(s.positions.size(), kInvalid);
   for (std::size_t c = 0; c < comps.size(); ++c) {
@@ -137,7 +172,7 @@ PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
       for (uint32_t& v : tri) {
         if (local[v] == kInvalid) {
           local[v] = uint32_t(positions.size());
-          positions.push_back(out.normalization.apply(s.positions[v]));
+          positions.push_back(working.apply(s.positions[v]));
           vin.push_back(s.vertex_input[v]);
         }
         v = local[v];
@@ -145,7 +180,7 @@ PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options) {
       tris.push_back(tri);
       fin.push_back(s.tri_input[t]);
     }
-    shape_statistics(positions, tris, out.normalization.scale, r);
+    shape_statistics(positions, tris, working.scale, to_input, r);
     if (options.flip_flat)
       r.flat_flips = prep::flip_flat_edges(positions, tris, prep::kFlatTolerance);
     PreparedComponent pc;

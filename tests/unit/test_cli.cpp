@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "corpus.hpp"
@@ -119,6 +120,158 @@ TEST(Cli, FieldPrintsSingularitiesThatSumToEulerAndDrawsThem) {
   std::filesystem::remove(png);
 }
 
+// Coordinates at 1e300 and 1e-300 (remesh crashed from about 1e154 while info said "diagonal
+// inf, area -nan ... would accept"): info gives a finite diagonal and accepts, and remesh
+// writes quads; both exit 0.
+TEST(Cli, InfoAndRemeshAgreeAtExtremeScales) {
+  for (const double scale : {1e300, 1e-300}) {
+    isoquad::PolyMesh m = isoquad::test::icosphere(3);
+    for (isoquad::Vec3& p : m.positions) p = scale * p;
+    const auto in = std::filesystem::temp_directory_path() / "isoquad_cli_scaled.off";
+    const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_scaled_quads.obj";
+    isoquad::write_mesh(in, m);
+    std::filesystem::remove(out);
+    const CliRun info = run("info --json " + in.string());
+    ASSERT_EQ(info.status, 0) << scale << info.err;
+    const auto doc = nlohmann::json::parse(info.out);
+    EXPECT_EQ(doc["remesh_would_accept"], true) << scale;
+    ASSERT_TRUE(doc["bounding_box"]["diagonal"].is_number()) << scale << info.out;
+    EXPECT_NEAR(doc["bounding_box"]["diagonal"].get<double>() / scale, 2 * std::sqrt(3.0), 0.1);
+    const CliRun remesh = run("remesh -q --quads 300 " + in.string() + " -o " + out.string());
+    EXPECT_EQ(remesh.status, 0) << scale << remesh.err;
+    EXPECT_TRUE(std::filesystem::exists(out)) << scale;
+    std::filesystem::remove(in);
+    std::filesystem::remove(out);
+  }
+}
+
+// Option values out of range were read as the default (--quads 0 and --quads -5 ran at the
+// default size): each is refused, naming the option and the value, with the status of invalid
+// input and no output; so is every other refused command line (CLI11's statuses were 104-109).
+TEST(Cli, OptionValuesOutOfRangeAreRefused) {
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_refused.obj";
+  std::filesystem::remove(out);
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"--quads 0", "--quads: 0 is not a quad count"},
+      {"--quads -5", "--quads: -5 is not a quad count"},
+      {"--quads many", "--quads: many is not a number"},
+      {"--edge-length -1", "--edge-length: -1 is not a positive length"},
+      {"--edge-length 0", "--edge-length: 0 is not a positive length"},
+      {"--edge-length inf", "--edge-length: inf is not a positive length"},
+      {"--patches 0", "--patches: a patch count must be positive"},
+      {"--feature-angle 181", "--feature-angle: 181 is not an angle in [0, 180]"},
+      {"--feature-angle -1", "--feature-angle: -1 is not an angle"},
+      {"--weld-eps 0.5", "--weld-eps: 0.5 is not a fraction"},
+      {"--threads -1", "--threads: -1 is not a thread count"},
+      {"--quads 500 --edge-length 0.1", "--edge-length excludes --quads"}};
+  for (const auto& [option, message] : cases) {
+    const CliRun r = run("remesh " + sphere + " -o " + out.string() + " -q " + option);
+    EXPECT_EQ(r.status, 2) << option << ": " << r.err;
+    EXPECT_NE(r.err.find("isoquad: error: " + message), std::string::npos) << option << r.err;
+    EXPECT_TRUE(r.out.empty()) << option;
+    EXPECT_FALSE(std::filesystem::exists(out)) << option;
+  }
+  const CliRun size = run("render " + sphere + " -o " + out.string() + ".png --size -5");
+  EXPECT_EQ(size.status, 2) << size.err;  // was an internal error, 70, from the PNG encoder
+  EXPECT_NE(size.err.find("--size"), std::string::npos) << size.err;
+  EXPECT_EQ(run("remesh " + sphere).status, 2);  // -o is required
+}
+
+// The output path is checked before the input is read (bunny00 ran 3 s and then said "cannot
+// write this format"): here the input does not even exist, and the error is the output's.
+TEST(Cli, OutputPathIsCheckedBeforeAnyWork) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string missing = (dir / "isoquad_cli_no_such_input.off").string();
+  const CliRun stl = run("remesh " + missing + " -o " + (dir / "x.stl").string());
+  EXPECT_EQ(stl.status, 2);
+  EXPECT_NE(stl.err.find("x.stl: cannot write this format"), std::string::npos) << stl.err;
+  EXPECT_NE(stl.err.find("[E002]"), std::string::npos) << stl.err;
+  const CliRun folder = run("remesh " + missing + " -o /nonexistent_isoquad/x.obj");
+  EXPECT_EQ(folder.status, 2);
+  EXPECT_NE(folder.err.find("the folder /nonexistent_isoquad does not exist [E001]"),
+            std::string::npos)
+      << folder.err;
+  const CliRun is_dir = run("remesh " + missing + " -o " + dir.string());
+  EXPECT_EQ(is_dir.status, 2);
+  EXPECT_EQ(is_dir.err.find("no such file"), std::string::npos) << is_dir.err;
+  const auto file = write_temp("isoquad_cli_a_file", "not a folder");
+  const CliRun report = run("remesh " + missing + " -o " + (dir / "x.obj").string() + " --report " +
+                            (file / "report").string());
+  EXPECT_EQ(report.status, 2);
+  EXPECT_NE(report.err.find(file.string() + " is not a folder [E001]"), std::string::npos)
+      << report.err;
+  std::filesystem::remove(file);
+  const CliRun seg = run("segment " + missing + " -o " + (dir / "x.stl").string());
+  EXPECT_NE(seg.err.find("cannot write this format"), std::string::npos) << seg.err;
+  const CliRun png = run("render " + missing + " -o /nonexistent_isoquad/x.png");
+  EXPECT_NE(png.err.find("does not exist [E001]"), std::string::npos) << png.err;
+  const CliRun param = run("param " + missing + " --svg /nonexistent_isoquad/x.svg");
+  EXPECT_NE(param.err.find("does not exist [E001]"), std::string::npos) << param.err;
+  // The input's own error once the output is fine.
+  const CliRun input = run("remesh " + missing + " -o " + (dir / "x.obj").string());
+  EXPECT_EQ(input.status, 2);
+  EXPECT_NE(input.err.find("no such file"), std::string::npos) << input.err;
+}
+
+// With --json, stdout is one JSON document whatever happens. A sphere with a vertex moved onto
+// its neighbour (coincident vertices, zero-area triangles) has a singular system, and CHOLMOD
+// printed "CHOLMOD warning: not positive definite" on stdout before the document; on failure
+// the document is the error.
+TEST(Cli, RemeshJsonStdoutIsOneDocumentWhateverHappens) {
+  const auto in = std::filesystem::temp_directory_path() / "isoquad_cli_coincident.off";
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_coincident_quads.obj";
+  std::set<std::string> codes;
+  for (const uint32_t v : {5u, 40u, 100u, 200u, 300u}) {
+    isoquad::PolyMesh m = isoquad::test::icosphere(3);
+    m.positions[v] = m.positions[m.face(0)[0] == v ? m.face(0)[1] : m.face(0)[0]];
+    for (std::size_t f = 0; f < m.num_faces(); ++f)  // a neighbour of v instead, where it has one
+      for (std::size_t k = 0; k < 3; ++k)
+        if (m.face(f)[k] == v) m.positions[v] = m.positions[m.face(f)[(k + 1) % 3]];
+    isoquad::write_mesh(in, m);
+    const CliRun r = run("remesh --quads 300 --json " + in.string() + " -o " + out.string());
+    EXPECT_EQ(r.out.find("CHOLMOD"), std::string::npos) << v << r.out;
+    nlohmann::json doc;
+    ASSERT_NO_THROW(doc = nlohmann::json::parse(r.out)) << v << ": " << r.out;
+    if (r.status == 0) {
+      EXPECT_TRUE(doc.contains("quality")) << v;
+    } else {
+      EXPECT_EQ(doc["error"]["exit_status"], r.status) << v;
+      codes.insert(doc["error"]["code"].get<std::string>());
+      EXPECT_NE(r.err.find("isoquad: error:"), std::string::npos) << v << r.err;
+    }
+  }
+  // The failure CHOLMOD printed its warning for (its factorization) was among them.
+  EXPECT_EQ(codes.count("E551"), 1u);
+  std::filesystem::remove(in);
+  std::filesystem::remove(out);
+}
+
+// A mistyped subcommand or option is named, with the nearest valid one (CLI11 said "A
+// subcommand is required" for `isoquad remsh`), and the status is that of invalid input.
+TEST(Cli, UnknownSubcommandAndOptionAreNamedWithASuggestion) {
+  const CliRun sub = run("remsh");
+  EXPECT_EQ(sub.status, 2);
+  EXPECT_NE(sub.err.find("isoquad: error: unknown subcommand 'remsh'; did you mean 'remesh'?"),
+            std::string::npos)
+      << sub.err;
+  const CliRun far = run("frobnicate");
+  EXPECT_EQ(far.status, 2);
+  EXPECT_NE(far.err.find("unknown subcommand 'frobnicate'\n"), std::string::npos) << far.err;
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_typo.obj";
+  const CliRun opt = run("remesh " + sphere + " -o " + out.string() + " --quad 5");
+  EXPECT_EQ(opt.status, 2);
+  EXPECT_NE(opt.err.find("unknown option '--quad' for remesh; did you mean '--quads'?"),
+            std::string::npos)
+      << opt.err;
+  const CliRun negated = run("layout " + sphere + " --no-improve-corner");
+  EXPECT_EQ(negated.status, 2);
+  EXPECT_NE(negated.err.find("did you mean '--no-improve-corners'?"), std::string::npos)
+      << negated.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto ply = dir / "isoquad_cli_patches.ply", png = dir / "isoquad_cli_patches.png";
@@ -177,10 +330,11 @@ TEST(Cli, LayoutReportsChartsAndLengths) {
             v5 = v.contains("5") ? v["5"].get<int>() : 0,
             v6 = v.contains("6") ? v["6"].get<int>() : 0;
   EXPECT_EQ(v3, v5 + 2 * v6);
+  // A refused option value is invalid input, as everywhere (CLI11 exited 105).
   EXPECT_EQ(
       run("layout " + (isoquad::test::data_dir() / "rotor.off").string() + " --corners sideways")
           .status,
-      105);
+      2);
 }
 
 TEST(Cli, RemeshQualityAndParamOnSampleMeshes) {

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <random>
 
@@ -472,6 +473,74 @@ TEST(Remesh, EigenEntryPoint) {
     EXPECT_EQ(e.code(), "E020");
     EXPECT_EQ(e.context().faces, std::vector<uint32_t>{0});
   }
+}
+
+// A sphere at coordinate scales 1e-300, 1e150 and 1e300 (where squares of coordinates
+// underflow or overflow; remesh crashed in the segmentation from about 1e154): valid quads of the
+// sphere's topology, each vertex on the input surface, measured in input units. Scaled by an
+// exact power of two (2^1000), the quads are the unit sphere's scaled, to the bit.
+TEST(Remesh, ExtremeCoordinateScalesGiveValidQuads) {
+  const PolyMesh unit = test::icosphere(3);
+  RemeshOptions o;
+  o.quads = 300;
+  const PolyMesh unit_quads = remesh_polymesh(unit, o).quads;
+  for (const double scale : {1e-300, 1e150, 1e300, std::ldexp(1.0, 1000)}) {
+    PolyMesh m = unit;
+    for (Vec3& p : m.positions) p = scale * p;
+    const PolyMesh quads = remesh_polymesh(m, o).quads;
+    const QualityReport q = measure_quality(quads, &m);
+    EXPECT_TRUE(q.pure_quad) << scale;
+    EXPECT_TRUE(q.edge_manifold && q.vertex_manifold && q.oriented) << scale;
+    EXPECT_TRUE(q.same_topology) << scale;
+    EXPECT_EQ(q.sj_surface_nonpositive, 0u) << scale;
+    EXPECT_LT(q.hausdorff, 0.02) << scale;
+    EXPECT_GT(quads.num_faces(), 200u) << scale;
+    for (const Vec3& p : quads.positions) {
+      ASSERT_TRUE(is_finite(p)) << scale;
+      EXPECT_NEAR(norm(p / scale), 1.0, 0.02) << scale;  // the icosphere's radius is 1
+    }
+    if (scale == std::ldexp(1.0, 1000)) {
+      ASSERT_EQ(quads.face_vertices, unit_quads.face_vertices);
+      for (std::size_t v = 0; v < quads.num_vertices(); ++v)
+        EXPECT_EQ(quads.positions[v], ldexp(unit_quads.positions[v], 1000)) << v;
+    }
+  }
+}
+
+// An option out of its range is refused (E003) before any work instead of read as the
+// default (quads = -5 ran at the default size); quads = 0 and edge_length = 0 mean "not given".
+TEST(Remesh, OptionsOutOfRangeAreRefused) {
+  const PolyMesh sphere = test::icosphere(2);
+  const auto code_of = [&](const RemeshOptions& o) -> std::string {
+    try {
+      remesh_polymesh(sphere, o);
+    } catch (const Error& e) {
+      return e.code();
+    }
+    return "accepted";
+  };
+  const std::vector<std::function<void(RemeshOptions&)>> bad{
+      [](RemeshOptions& o) { o.quads = -5; },
+      [](RemeshOptions& o) { o.quads = 0.5; },
+      [](RemeshOptions& o) { o.quads = NAN; },
+      [](RemeshOptions& o) { o.quads = INFINITY; },
+      [](RemeshOptions& o) { o.edge_length = -1; },
+      [](RemeshOptions& o) { o.edge_length = NAN; },
+      [](RemeshOptions& o) { o.edge_length = INFINITY; },
+      [](RemeshOptions& o) { o.quads = 100, o.edge_length = 0.1; },
+      [](RemeshOptions& o) { o.feature_angle_deg = -1; },
+      [](RemeshOptions& o) { o.feature_angle_deg = 181; },
+      [](RemeshOptions& o) { o.relax = "none"; },
+      [](RemeshOptions& o) { o.tolerance = 0.01, o.tolerance_rounds = 0; }};
+  for (std::size_t i = 0; i < bad.size(); ++i) {
+    RemeshOptions o;
+    bad[i](o);
+    EXPECT_EQ(code_of(o), "E003") << "case " << i;
+  }
+  RemeshOptions fine;
+  fine.quads = 100;
+  fine.feature_angle_deg = 0;
+  EXPECT_EQ(code_of(fine), "accepted");
 }
 
 // Three disjoint shapes in one input (a sphere, a torus and an open plate): each component is

@@ -352,3 +352,59 @@ TEST(Prepare, NormalizationRoundTrip) {
     EXPECT_LE(norm(prep.normalization.invert(t.position(v)) - orig), 1e-15 * norm(orig));
   }
 }
+
+// Squares of coordinates overflow from about 1e154 and underflow below 1e-154 (the diagonal
+// was inf at 1e154, and the segmentation crashed on the NaN positions that followed). A mesh
+// scaled by a power of two, here to about 1e-301, 3e150 and 1e301, normalizes to the very
+// bits of the unit-scale mesh, and its report is in its own units.
+TEST(Prepare, CoordinatesOfAnyFiniteMagnitudeNormalizeAlike) {
+  const PolyMesh unit = test::icosphere(2);
+  const PreparedMesh ref = prepare(unit);
+  for (const int k : {-1000, 500, 1000}) {
+    PolyMesh m = unit;
+    for (Vec3& p : m.positions) p = ldexp(p, k);
+    const PreparedMesh prep = prepare(m);
+    ASSERT_EQ(prep.components.size(), 1u) << k;
+    EXPECT_EQ(prep.components[0].mesh.positions(), ref.components[0].mesh.positions()) << k;
+    EXPECT_EQ(prep.report.bounding_box.diagonal(),
+              std::ldexp(ref.report.bounding_box.diagonal(), k))
+        << k;
+    EXPECT_EQ(prep.normalization.scale, std::ldexp(ref.normalization.scale, -k)) << k;
+    // And back, as the unit-scale mesh comes back, scaled.
+    const TriMesh& t = prep.components[0].mesh;
+    for (uint32_t v = 0; v < t.num_vertices(); ++v)
+      EXPECT_EQ(prep.normalization.invert(t.position(v)),
+                ldexp(ref.normalization.invert(t.position(v)), k))
+          << k << " vertex " << v;
+  }
+  // A decimal scale (not a power of two) at the top of the range: a unit diagonal as well.
+  PolyMesh huge = unit;
+  for (Vec3& p : huge.positions) p = 1e300 * p;
+  const PreparedMesh prep = prepare(huge);
+  EXPECT_NEAR(prep.components[0].mesh.bounding_box().diagonal(), 1.0, 1e-15);
+  EXPECT_TRUE(std::isfinite(prep.report.bounding_box.diagonal()));
+}
+
+// A NaN or infinite coordinate (which a library caller can pass; the readers reject it) is
+// E013 naming the vertex, whether prepare throws or diagnoses.
+TEST(Prepare, NonFiniteCoordinateIsE013NamingTheVertex) {
+  for (const double bad : {NAN, INFINITY, -INFINITY}) {
+    PolyMesh m = test::icosphere(1);
+    m.positions[5].y = bad;
+    try {
+      prepare(m);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), "E013");
+      EXPECT_EQ(e.context().vertices, std::vector<uint32_t>{5});
+      EXPECT_NE(std::string(e.what()).find("vertex 5"), std::string::npos) << e.what();
+    }
+    PrepOptions diagnose;
+    diagnose.diagnose = true;
+    const PreparedMesh p = prepare(m, diagnose);
+    EXPECT_TRUE(p.report.has_errors());
+    ASSERT_EQ(p.report.issues.size(), 1u);
+    EXPECT_EQ(p.report.issues[0].code, "E013");
+    EXPECT_TRUE(p.components.empty());
+  }
+}
