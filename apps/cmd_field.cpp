@@ -127,6 +127,7 @@ nlohmann::json trace_summary(const TraceResult& r, double seconds) {
           {"ray_mismatches", r.ray_mismatches},
           {"truncated", r.truncated},
           {"straight_crossings", r.straight_crossings},
+          {"head_on", r.head_on},
           {"seconds", seconds}};
 }
 

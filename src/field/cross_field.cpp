@@ -13,6 +13,7 @@
 #include "field/feature_curves.hpp"
 #include "isoquad/error.hpp"
 #include "param/blas_runtime.hpp"
+#include "seg/patch_topology.hpp"
 
 namespace isoquad {
 
@@ -479,7 +480,7 @@ void period_jumps_and_indices(const TriMesh& mesh, CrossField& cf) {
     uint32_t last = kInvalid;
     mesh.for_each_outgoing(v, [&](uint32_t h) {
       const uint32_t f = TriMesh::face_of(h);
-      angles += corner_angle(mesh, f, h % 3);
+      angles += corner_angle(mesh, h);
       const uint32_t in = TriMesh::prev(h), tw = mesh.twin(in);
       if (tw != kInvalid) turning += turn(cf, f, TriMesh::face_of(tw), in);
       last = h;

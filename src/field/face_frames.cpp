@@ -16,12 +16,6 @@ Vec3 FaceFrames::direction(uint32_t f, double t) const {
   return std::cos(t) * x[f] + std::sin(t) * y[f];
 }
 
-double corner_angle(const TriMesh& mesh, uint32_t f, uint32_t i) {
-  const Tri& t = mesh.face(f);
-  const Vec3 p = mesh.position(t[i]);
-  return angle_between(mesh.position(t[(i + 1) % 3]) - p, mesh.position(t[(i + 2) % 3]) - p);
-}
-
 FaceFrames face_frames(const TriMesh& mesh) {
   const uint32_t nf = mesh.num_faces();
   FaceFrames fr;

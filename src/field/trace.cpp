@@ -166,6 +166,7 @@ struct Tracer {
     // singularity): the trace crosses this face straight on, along its incoming direction.
     bool straight = false;
     P2 direction;
+    uint32_t steps = 0;
   };
   std::vector<State> state;
   TraceResult result;
@@ -187,13 +188,21 @@ struct Tracer {
     const Tri& tri = m.face(r.face);
     const int i = int(std::find(tri.begin(), tri.end(), r.vertex) - tri.begin());
     t.points.push_back(surface_point(r.face, charts.corner[r.face][i]));
+    t.on_edge.push_back({kInvalid, 0});
     result.traces.push_back(std::move(t));
     state.push_back({r.face, charts.corner[r.face][i], kInvalid, r.arm});
   }
 
-  void finish(uint32_t id, uint32_t f, P2 p, TraceEnd end, uint32_t on = kInvalid) {
+  // Halfedge h at fraction s from its start, as a point of h's edge.
+  EdgePoint edge_point(uint32_t h, double s) const {
+    const uint32_t e = m.edge(h);
+    return {e, m.edge_halfedge(e) == h ? s : 1 - s};
+  }
+
+  void finish(uint32_t id, uint32_t f, P2 p, EdgePoint at, TraceEnd end, uint32_t on = kInvalid) {
     Trace& t = result.traces[id];
     t.points.push_back(surface_point(f, p));
+    t.on_edge.push_back(at);
     t.faces.push_back(f);
     t.end = end;
     t.end_trace = on;
@@ -258,12 +267,82 @@ struct Tracer {
       const P2 x = p + hit.t * r;
       Trace& other = result.traces[s.trace];
       other.points.back() = surface_point(f, x);
+      other.on_edge.back() = {kInvalid, 0};
       other.length = hit.other_arc;
       other.end = TraceEnd::track;
       other.end_trace = id;
       state[s.trace].alive = false;
       s.to = x;
       ++result.truncated;
+    }
+    return false;
+  }
+
+  // Two traces of one separatrix, run from its two ends (a singularity to a singularity), meet
+  // head-on. Where trace id's segment in face f runs against the last segment of a live trace in
+  // f (within 20 degrees of opposite), both end where the other entered f: one seam, joined at
+  // an edge point (or at the other's source, when it has only just left it). Numerically the two
+  // often pass one triangle apart: against a live trace's last segment in a neighbour of f, both
+  // end at the nearer end of the edge between the two faces.
+  bool head_on(uint32_t id, uint32_t f, P2 from, P2 dir) {
+    const Vec3 dir3 = normalized(dir.x * cf.frames.x[f] + dir.y * cf.frames.y[f]);
+    auto opposed = [&](uint32_t sid, uint32_t g) {
+      const Segment& sg = segments[sid];
+      const uint32_t y = sg.trace;
+      if (y == id || !state[y].alive || state[y].last_segment != sid) return false;
+      const P2 e = sg.to - sg.from;
+      const Vec3 e3 = e.x * cf.frames.x[g] + e.y * cf.frames.y[g];
+      return isoquad::dot(e3, dir3) < -std::cos(kPi / 9) * norm(e3);
+    };
+    auto end_other = [&](uint32_t y, uint32_t sid) {
+      Trace& other = result.traces[y];
+      other.points.pop_back();
+      other.on_edge.pop_back();
+      other.faces.pop_back();
+      other.length = segments[sid].arc;
+      other.end = TraceEnd::track;
+      other.end_trace = id;
+      state[y].alive = false;
+      ++result.head_on;
+    };
+    for (uint32_t sid : face_segments[f]) {
+      if (!opposed(sid, f)) continue;
+      const Segment& sg = segments[sid];
+      const uint32_t y = sg.trace;
+      end_other(y, sid);
+      result.traces[id].length = state[id].arc + length(sg.from - from);
+      finish(id, f, sg.from, result.traces[y].on_edge.back(), TraceEnd::track, y);
+      return true;
+    }
+    for (uint32_t i = 0; i < 3; ++i) {
+      const uint32_t h = 3 * f + i, tw = m.twin(h);
+      if (tw == kInvalid) continue;
+      const uint32_t g = TriMesh::face_of(tw);
+      for (uint32_t sid : face_segments[g]) {
+        if (!opposed(sid, g)) continue;
+        const Segment& sg = segments[sid];
+        const uint32_t y = sg.trace;
+        // The end of the shared edge nearer to the other's segment.
+        const P2 mid = 0.5 * (sg.from + sg.to);
+        const auto& cg = charts.corner[g];
+        // tw runs from the corner h ends at (h's end is tw's start) to h's start.
+        const bool h_end = length(cg[tw % 3] - mid) < length(cg[(tw % 3 + 1) % 3] - mid);
+        const uint32_t corner_f = h_end ? (i + 1) % 3 : i;
+        const uint32_t corner_g = h_end ? tw % 3 : (tw % 3 + 1) % 3;
+        const EdgePoint w = edge_point(h, h_end ? 1.0 : 0.0);
+        Trace& other = result.traces[y];
+        other.points.back() = surface_point(g, cg[corner_g]);
+        other.on_edge.back() = w;
+        other.length = sg.arc + length(cg[corner_g] - sg.from);
+        other.end = TraceEnd::track;
+        other.end_trace = id;
+        state[y].alive = false;
+        segments[sid].to = cg[corner_g];
+        ++result.head_on;
+        result.traces[id].length = state[id].arc + length(charts.corner[f][corner_f] - from);
+        finish(id, f, charts.corner[f][corner_f], w, TraceEnd::track, y);
+        return true;
+      }
     }
     return false;
   }
@@ -276,15 +355,16 @@ struct Tracer {
     uint32_t h = kInvalid;
     double t = 0, s = 0;
     if (!exit(f, st.point, d, st.entry, st.entry == kInvalid, h, t, s)) {
-      finish(id, f, st.point, TraceEnd::sink);
+      finish(id, f, st.point, {kInvalid, 0}, TraceEnd::sink);
       return false;
     }
     const P2 q = st.point + t * d;
+    if (head_on(id, f, st.point, d)) return false;
     double t_stop = 0;
     uint32_t on = kInvalid;
     if (crossing(id, f, st.point, q, st.arc, t_stop, on)) {
       result.traces[id].length = st.arc + t_stop * t;
-      finish(id, f, st.point + (t_stop * t) * d, TraceEnd::track, on);
+      finish(id, f, st.point + (t_stop * t) * d, {kInvalid, 0}, TraceEnd::track, on);
       return false;
     }
     segments.push_back({id, st.point, q, st.arc});
@@ -294,14 +374,18 @@ struct Tracer {
     Trace& tr = result.traces[id];
     tr.length = st.arc;
     if (m.twin(h) == kInvalid || cf.feature[m.edge(h)]) {
-      finish(id, f, q, m.twin(h) == kInvalid ? TraceEnd::boundary : TraceEnd::feature);
+      finish(id, f, q, edge_point(h, s),
+             m.twin(h) == kInvalid ? TraceEnd::boundary : TraceEnd::feature);
       return false;
     }
-    if (st.arc > cap) {
-      finish(id, f, q, TraceEnd::cap);
+    // The cap, or a trace that keeps crossing faces without getting anywhere (zero-length steps
+    // back and forth at a degenerate spot).
+    if (st.arc > cap || ++st.steps > 2 * m.num_faces()) {
+      finish(id, f, q, edge_point(h, s), TraceEnd::cap);
       return false;
     }
     tr.points.push_back(surface_point(f, q));
+    tr.on_edge.push_back(edge_point(h, s));
     tr.faces.push_back(f);
     // Into the neighbour: the same edge point, the arm matched by the period jump.
     const uint32_t tw = m.twin(h), g = TriMesh::face_of(tw);
@@ -321,7 +405,7 @@ struct Tracer {
       const double base = std::atan2(eg.y, eg.x) + turn;
       st.direction = {std::cos(base), std::sin(base)};
       if (cross(b - a, st.direction) <= 0) {
-        finish(id, g, st.point, TraceEnd::sink);
+        finish(id, g, st.point, edge_point(h, s), TraceEnd::sink);
         return false;
       }
       ++result.straight_crossings;

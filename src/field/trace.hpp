@@ -33,6 +33,10 @@ struct Trace {
   // The polyline: the source vertex, one point per edge crossed, then the end point. points[i]
   // and points[i + 1] lie in faces[i].
   std::vector<SurfacePoint> points;
+  // Per point, the edge it lies on and its fraction from the start of the edge's halfedge
+  // (EdgePoint, refined_mesh.hpp); edge kInvalid for the source vertex and for an end inside a
+  // face (on another trace).
+  std::vector<EdgePoint> on_edge;
   std::vector<uint32_t> faces;
   TraceEnd end = TraceEnd::cap;
   uint32_t end_trace = kInvalid;  // the trace it stopped on (TraceEnd::track)
@@ -47,6 +51,7 @@ struct TraceResult {
   uint32_t ray_mismatches = 0;
   uint32_t truncated = 0;           // traces cut back where a later arrival had crossed them first
   uint32_t straight_crossings = 0;  // faces crossed straight on past a sink edge
+  uint32_t head_on = 0;             // separatrices traced from both ends, joined where they met
 };
 
 // The rays every node emits and their traces. Nodes: singular interior vertices (4 - 4I rays),
