@@ -94,6 +94,14 @@ struct Embedded {
   EdgeData<char> feature;
   std::vector<std::pair<uint32_t, uint32_t>> seams;  // node pairs joined by a trace
   std::vector<uint32_t> nodes;  // the traces' sources and ends, as vertices of `refined`
+  std::vector<uint32_t> sources;
+  // The last step of each trace that ends on a track, a feature or the boundary: its end and the
+  // node before it. A trace joined head-on to another continues it straight.
+  struct Stem {
+    uint32_t end, before;
+    bool straight;
+  };
+  std::vector<Stem> stems;
 };
 
 std::optional<Embedded> embed(const RefinedMesh& base, const CrossField& cf, const TraceResult& tr,
@@ -129,6 +137,15 @@ std::optional<Embedded> embed(const RefinedMesh& base, const CrossField& cf, con
     }
     out.nodes.push_back(path.front());
     out.nodes.push_back(path.back());
+    out.sources.push_back(path.front());
+    // The last step that moved (a trace may end where it entered its last face).
+    std::size_t last = path.size() - 1;
+    while (last > 0 && path[last - 1] == path.back()) --last;
+    if (last > 0) {
+      const bool joined = t.end == TraceEnd::track && t.end_trace != kInvalid &&
+                          tr.traces[t.end_trace].end_trace == id;
+      out.stems.push_back({path.back(), path[last - 1], joined});
+    }
   }
   out.feature = cf.feature;
   out.refined = cut_along_chords(base, nodes.points, chords, nullptr, &out.feature);
@@ -195,6 +212,46 @@ Vec3 point_along(const TriMesh& mesh, const std::vector<uint32_t>& path, bool re
   return at(n - 1);
 }
 
+// How many quarter turns patch p makes at vertex v, where the traces say it: 1 at a trace's
+// source (every sector between consecutive rays of a node is a quarter), at a stem's end 1 on
+// the two sides of the stem and 2 on the track's far side, 2 where two traces of one separatrix
+// were joined. 0 where the traces say nothing.
+struct TraceTurns {
+  const TriMesh& mesh;
+  const FaceData<uint32_t>& labels;
+  std::vector<char> source;
+  std::vector<std::vector<Embedded::Stem>> stems;  // per vertex
+
+  TraceTurns(const TriMesh& m, const FaceData<uint32_t>& l, const Embedded& em)
+      : mesh(m), labels(l), source(m.num_vertices(), 0), stems(m.num_vertices()) {
+    for (uint32_t v : em.sources) source[v] = 1;
+    for (const Embedded::Stem& s : em.stems) stems[s.end].push_back(s);
+  }
+
+  int operator()(uint32_t v, uint32_t p) const {
+    if (source[v]) return 1;
+    if (stems[v].empty()) return 0;
+    for (const Embedded::Stem& s : stems[v])
+      if (s.straight) return 2;
+    // The stem's edge at v: the edge from v most nearly towards the node before the end.
+    for (const Embedded::Stem& s : stems[v]) {
+      const Vec3 to = normalized(mesh.position(s.before) - mesh.position(v));
+      uint32_t best = kInvalid;
+      double cos = -2;
+      mesh.for_each_outgoing(v, [&](uint32_t h) {
+        const double c = dot(normalized(mesh.position(mesh.to(h)) - mesh.position(v)), to);
+        if (c > cos) cos = c, best = h;
+      });
+      if (best == kInvalid) continue;
+      const uint32_t tw = mesh.twin(best);
+      if (labels[TriMesh::face_of(best)] == p ||
+          (tw != kInvalid && labels[TriMesh::face_of(tw)] == p))
+        return 1;
+    }
+    return 2;
+  }
+};
+
 // Per patch, the cycle items at which it turns by a quarter (its corners), or empty if some
 // patch does not have exactly four or turns by three quarters somewhere. A patch's angle at a
 // meta-vertex is measured between its two sides at a distance of about h/2 (or half the side):
@@ -203,6 +260,7 @@ Vec3 point_along(const TriMesh& mesh, const std::vector<uint32_t>& path, bool re
 std::optional<std::vector<std::array<uint32_t, 4>>> patch_corners(const TriMesh& mesh,
                                                                   const FaceData<uint32_t>& labels,
                                                                   const MetaMesh& meta, double h,
+                                                                  const TraceTurns& turns,
                                                                   std::string& failure) {
   std::vector<std::array<uint32_t, 4>> corners(meta.faces.size());
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
@@ -211,6 +269,10 @@ std::optional<std::vector<std::array<uint32_t, 4>>> patch_corners(const TriMesh&
     std::vector<uint32_t> found;
     for (uint32_t i = 0; i < n; ++i) {
       const uint32_t v = meta.vertices[face.start_vertex(i, meta.edges)].vertex;
+      if (const int known = turns(v, p)) {
+        if (known == 1) found.push_back(i);
+        continue;
+      }
       const BoundaryItem& out = face.cycle[i];
       const BoundaryItem& in = face.cycle[(i + n - 1) % n];
       const MetaEdge& eo = meta.edges[out.edge];
@@ -310,7 +372,8 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   }
   measure_geodesic_lengths(seg.refined.mesh, seg.labels, seg.meta);
   seg.vsa_labels = seg.labels;
-  auto corners = patch_corners(seg.refined.mesh, seg.labels, seg.meta, h, log.failure);
+  const TraceTurns turns(seg.refined.mesh, seg.labels, *em);
+  auto corners = patch_corners(seg.refined.mesh, seg.labels, seg.meta, h, turns, log.failure);
   log.embed_seconds = seconds_since(t0);
   if (corners) out.corners = std::move(*corners);
   return out;
