@@ -10,6 +10,7 @@
 #include <numbers>
 #include <optional>
 
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include "field/curvature.hpp"
@@ -443,8 +444,9 @@ CrossField solve_field(const TriMesh& mesh, const EdgeData<char>& feature,
   constrain_faces(mesh, fr, feature, u);
   cf.constrained_faces = uint32_t(nf - sys.face_of.size());
   sys.weight.assign(mesh.num_halfedges(), 0.0);
-  for (uint32_t h = 0; h < mesh.num_halfedges(); ++h)
+  tbb::parallel_for(uint32_t(0), mesh.num_halfedges(), [&](uint32_t h) {
     if (mesh.twin(h) != kInvalid) sys.weight[h] = edge_weight(mesh, h);
+  });
 
   FaceData<double> area(nf);
   double total_area = 0;
@@ -521,54 +523,61 @@ double turn(const CrossField& cf, uint32_t f, uint32_t g, uint32_t h) {
   return cf.angle[g] - cf.angle[f] - cf.frames.rho[h] + cf.period_jump[h] * kPi / 2;
 }
 
+// The index of vertex v in quarter turns (4 I_v, before rounding) and the sum of its corner
+// angles.
+double quarter_turns(const TriMesh& mesh, const CrossField& cf, uint32_t v, double& angles) {
+  // Around v, CCW: the field's turning against parallel transport plus the angle defect (the
+  // transport's own turning) is 2 pi I_v.
+  double turning = 0;
+  angles = 0;
+  uint32_t last = kInvalid;
+  mesh.for_each_outgoing(v, [&](uint32_t h) {
+    const uint32_t f = TriMesh::face_of(h);
+    angles += corner_angle(mesh, f, h % 3);
+    const uint32_t in = TriMesh::prev(h), tw = mesh.twin(in);
+    if (tw != kInvalid) turning += turn(cf, f, TriMesh::face_of(tw), in);
+    last = h;
+  });
+  if (!mesh.is_boundary_vertex(v)) return (2 * kPi - angles + turning) / (kPi / 2);
+  // The field measured from the boundary: its offset from the outgoing boundary edge at the
+  // start of the fan, and from the incoming one at its end, each mod 90 degrees.
+  const uint32_t h0 = mesh.outgoing(v), f0 = TriMesh::face_of(h0);
+  const uint32_t in = TriMesh::prev(last), f1 = TriMesh::face_of(last);
+  const double a0 =
+      wrap_angle(cf.angle[f0] - cf.frames.arg(f0, halfedge_vector(mesh, h0)), kPi / 2);
+  const double a1 =
+      wrap_angle(cf.angle[f1] - cf.frames.arg(f1, -halfedge_vector(mesh, in)), kPi / 2);
+  return (kPi - angles + a0 + turning - a1) / (kPi / 2);
+}
+
+// Per vertex in parallel (each writes its own entries), then checked and collected in vertex
+// order, so that the error names the same vertex on any thread count.
 void period_jumps_and_indices(const TriMesh& mesh, CrossField& cf) {
   cf.period_jump = HalfedgeData<int8_t>(mesh.num_halfedges(), 0);
-  for (uint32_t h = 0; h < mesh.num_halfedges(); ++h) {
+  tbb::parallel_for(uint32_t(0), mesh.num_halfedges(), [&](uint32_t h) {
     const uint32_t tw = mesh.twin(h);
-    if (tw == kInvalid || tw < h) continue;
+    if (tw == kInvalid || tw < h) return;
     const int p = period_jump(cf, TriMesh::face_of(h), TriMesh::face_of(tw), cf.frames.rho[h]);
     cf.period_jump[h] = int8_t(p);
     cf.period_jump[tw] = int8_t(-p);
-  }
-  cf.index4 = VertexData<int32_t>(mesh.num_vertices(), 0);
+  });
+  const uint32_t nv = mesh.num_vertices();
+  std::vector<double> i4(nv), angles(nv);
+  tbb::parallel_for(uint32_t(0), nv,
+                    [&](uint32_t v) { i4[v] = quarter_turns(mesh, cf, v, angles[v]); });
+  cf.index4 = VertexData<int32_t>(nv, 0);
   int64_t sum4 = 0;
-  for (uint32_t v = 0; v < mesh.num_vertices(); ++v) {
-    // Around v, CCW: the field's turning against parallel transport plus the angle defect
-    // (the transport's own turning) is 2 pi I_v.
-    double angles = 0, turning = 0;
-    uint32_t last = kInvalid;
-    mesh.for_each_outgoing(v, [&](uint32_t h) {
-      const uint32_t f = TriMesh::face_of(h);
-      angles += corner_angle(mesh, f, h % 3);
-      const uint32_t in = TriMesh::prev(h), tw = mesh.twin(in);
-      if (tw != kInvalid) turning += turn(cf, f, TriMesh::face_of(tw), in);
-      last = h;
-    });
-    double total;
-    if (mesh.is_boundary_vertex(v)) {
-      // The field measured from the boundary: its offset from the outgoing boundary edge at the
-      // start of the fan, and from the incoming one at its end, each mod 90 degrees.
-      const uint32_t h0 = mesh.outgoing(v), f0 = TriMesh::face_of(h0);
-      const uint32_t in = TriMesh::prev(last), f1 = TriMesh::face_of(last);
-      const double a0 =
-          wrap_angle(cf.angle[f0] - cf.frames.arg(f0, halfedge_vector(mesh, h0)), kPi / 2);
-      const double a1 =
-          wrap_angle(cf.angle[f1] - cf.frames.arg(f1, -halfedge_vector(mesh, in)), kPi / 2);
-      total = kPi - angles + a0 + turning - a1;
-    } else {
-      total = 2 * kPi - angles + turning;
-    }
-    const double i4 = total / (kPi / 2);
-    const long r = std::lround(i4);
-    if (std::abs(i4 - double(r)) > 1e-4)
+  for (uint32_t v = 0; v < nv; ++v) {
+    const long r = std::lround(i4[v]);
+    if (std::abs(i4[v] - double(r)) > 1e-4)
       throw Error(ErrorKind::internal, "E700",
                   fmt::format("the cross field's index at vertex {} is {} quarter turns, not an "
                               "integer",
-                              v, i4));
+                              v, i4[v]));
     cf.index4[v] = int32_t(r);
     sum4 += r;
     const bool singular = mesh.is_boundary_vertex(v)
-                              ? 2 - r != std::max(1L, std::lround(angles / (kPi / 2)))
+                              ? 2 - r != std::max(1L, std::lround(angles[v] / (kPi / 2)))
                               : r != 0;
     if (singular) cf.singular.push_back(v);
   }
