@@ -353,7 +353,7 @@ TriMesh smoothed(const TriMesh& mesh, const EdgeData<char>& feature, double t) {
     const double sine = norm(cross(u, w));
     const double weight = sine > 0 ? std::max(0.0, 0.5 * dot(u, w) / sine) * t : 0;
     if (weight == 0) continue;
-    for (const auto [p, q] : {std::pair{a, b}, std::pair{b, a}}) {
+    for (const auto& [p, q] : {std::pair{a, b}, std::pair{b, a}}) {
       if (index[p] == kInvalid) continue;
       diag[index[p]] += weight;
       if (index[q] == kInvalid) {
