@@ -379,7 +379,7 @@ TriMesh smoothed(const TriMesh& mesh, const EdgeData<char>& feature, double t) {
   std::vector<Vec3> p = mesh.positions();
   for (uint32_t v = 0; v < nv; ++v)
     if (index[v] != kInvalid) p[v] = {x(index[v], 0), x(index[v], 1), x(index[v], 2)};
-  return TriMesh(std::move(p), mesh.faces());
+  return mesh.with_positions(std::move(p));
 }
 
 CrossField solve_field(const TriMesh& mesh, const EdgeData<char>& feature,
