@@ -155,10 +155,10 @@ struct Tracer {
   std::vector<std::vector<uint32_t>> face_segments;  // segment ids per face
   std::vector<Segment> segments;
   struct State {
-    uint32_t face;
+    uint32_t face = kInvalid;
     P2 point;
     uint32_t entry = kInvalid;  // the halfedge of `face` it came in through; kInvalid at the source
-    int arm;
+    int arm = 0;
     double arc = 0;
     bool alive = true;
     uint32_t last_segment = kInvalid;
@@ -190,7 +190,11 @@ struct Tracer {
     t.points.push_back(surface_point(r.face, charts.corner[r.face][i]));
     t.on_edge.push_back({kInvalid, 0});
     result.traces.push_back(std::move(t));
-    state.push_back({r.face, charts.corner[r.face][i], kInvalid, r.arm});
+    State st;
+    st.face = r.face;
+    st.point = charts.corner[r.face][i];
+    st.arm = r.arm;
+    state.push_back(st);
   }
 
   // Halfedge h at fraction s from its start, as a point of h's edge.
