@@ -120,11 +120,15 @@ nlohmann::json trace_summary(const TraceResult& r, double seconds) {
            : t.end == TraceEnd::feature ? "feature"
            : t.end == TraceEnd::track   ? "track"
            : t.end == TraceEnd::cap     ? "cap"
+           : t.end == TraceEnd::node    ? "node"
                                         : "sink"];
   return {{"nodes", r.nodes.size()},
           {"traces", r.traces.size()},
           {"ends", ends},
           {"ray_mismatches", r.ray_mismatches},
+          {"connections", r.connections},
+          {"deleted", r.deleted},
+          {"rounds", r.rounds},
           {"truncated", r.truncated},
           {"straight_crossings", r.straight_crossings},
           {"head_on", r.head_on},

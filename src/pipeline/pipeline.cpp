@@ -847,6 +847,12 @@ ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const Pipeline
       refine_far(stages, diagonal, run);
       return run;
     } catch (const Error& e) {
+      // A traced layout that a later stage cannot use: this component takes VSA's patches.
+      if (run.field_used && e.kind() != ErrorKind::internal) {
+        run.field_log.failure = fmt::format("a stage after the traced layout failed: {}", e.what());
+        stages.field_layout = false;
+        continue;
+      }
       if (e.code() == "E553" && stages.layout.improve_corners) {
         stages.layout.improve_corners = false;
         run.corners_unrefined = true;

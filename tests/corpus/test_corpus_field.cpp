@@ -151,17 +151,41 @@ TEST(CorpusFieldLayout, CylinderIsLaidOutAlongItsRulings) {
   EXPECT_EQ(report["options"]["segmentation"], "field");
 }
 
-// Where the traced patches cannot be laid out (here the sphere: two traces of one separatrix pass
-// a triangle apart and leave a sliver patch), the component takes VSA's patches, and the report
+// The sphere: its eight +1/4 singularities joined by twelve separatrices, each found from one end
+// and steered into the other (traced from both ends, they pass a triangle apart and leave a
+// sliver), cut it into the six faces of a cube. Every corner is the traces', every quad is
+// nearly square, and the only irregular vertices are the singularities.
+TEST(CorpusFieldLayout, SphereIsLaidOutAsACube) {
+  ISOQUAD_CORPUS_MESH(path, "sphere.off");
+  const ReadResult input = read_mesh(path);
+  const LaidOut field = remesh_with(input, "field");
+  const ComponentRun& r = field.run.runs[0];
+  ASSERT_TRUE(r.field_used) << r.field_log.failure;
+  EXPECT_EQ(r.field_log.singularities, 8u);
+  EXPECT_EQ(r.field_log.connections, 12u);
+  EXPECT_EQ(r.seg.num_patches, 6u);
+  EXPECT_EQ(r.field_log.free_corner_patches, 0u);
+  EXPECT_EQ(field.quality.irregular, 8u);
+  EXPECT_EQ(field.quality.sj_nonpositive, 0u);
+  EXPECT_GT(field.quality.sj_min, 0.5);
+  EXPECT_GT(field.quality.sj_mean, 0.97);
+  const LaidOut vsa = remesh_with(input, "vsa");
+  EXPECT_GT(field.quality.sj_mean, vsa.quality.sj_mean);
+  EXPECT_LT(field.quality.edge_cv, vsa.quality.edge_cv);
+}
+
+// Where the traces cannot make patches (the knot: a tube with no singularity and no feature, so
+// no trace and one patch that is not a disk), the component takes VSA's patches, and the report
 // says why.
 TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
-  ISOQUAD_CORPUS_MESH(path, "sphere.off");
+  ISOQUAD_CORPUS_MESH(path, "knot1.off");
   const ReadResult input = read_mesh(path);
   const LaidOut field = remesh_with(input, "field");
   const ComponentRun& r = field.run.runs[0];
   EXPECT_FALSE(r.field_used);
   EXPECT_FALSE(r.field_log.failure.empty());
-  EXPECT_EQ(r.field_log.singularities, 8u);
+  EXPECT_EQ(r.field_log.singularities, 0u);
+  EXPECT_EQ(r.field_log.traces, 0u);
   const auto report = nlohmann::json::parse(field.run.result.report);
   EXPECT_EQ(report["components"][0]["layout_source"], "vsa");
   EXPECT_EQ(report["components"][0]["field"]["fallback_reason"], r.field_log.failure);

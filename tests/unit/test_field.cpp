@@ -267,18 +267,31 @@ TEST(Trace, LPlateConcaveCornerCutsItIntoThree) {
   }
 }
 
-TEST(Trace, SphereSeparatricesAllEndOnTracks) {
+TEST(Trace, SphereSeparatricesAllEndOnTracksOrSingularities) {
   const PreparedComponent c = prepared(test::icosphere(4));
   const CrossField cf = field_of(c);
   ASSERT_EQ(cf.singular.size(), 8u);
   const TraceResult r = traces_of(cf, edge_length_for_quads(c.mesh, 200));
   EXPECT_EQ(r.ray_mismatches, 0u);
-  EXPECT_EQ(r.traces.size(), 24u);  // three per +1/4 singularity
+  // Three rays per +1/4 singularity: each one traced, or the far end of a connection (a
+  // separatrix from singularity to singularity, traced once), or deleted beside a parallel trace.
+  EXPECT_EQ(r.traces.size() + r.connections + r.deleted, 24u);
+  EXPECT_GT(r.connections, 0u);
+  uint32_t at_nodes = 0;
   for (const Trace& t : r.traces) {
-    EXPECT_EQ(t.end, TraceEnd::track);
-    EXPECT_NE(t.end_trace, kInvalid);
+    EXPECT_TRUE(t.end == TraceEnd::track || t.end == TraceEnd::node);
     EXPECT_EQ(t.points.size(), t.faces.size() + 1);
+    if (t.end == TraceEnd::track) {
+      EXPECT_NE(t.end_trace, kInvalid);
+      continue;
+    }
+    ++at_nodes;
+    // A connection ends at another singular vertex, exactly at it.
+    EXPECT_NE(t.end_vertex, t.source);
+    EXPECT_NE(std::find(cf.singular.begin(), cf.singular.end(), t.end_vertex), cf.singular.end());
+    EXPECT_LT(norm(position_on(c.mesh, t.points.back()) - c.mesh.position(t.end_vertex)), 1e-12);
   }
+  EXPECT_EQ(at_nodes, r.connections);
   // The same input gives the same traces.
   const TraceResult again = traces_of(cf, edge_length_for_quads(c.mesh, 200));
   ASSERT_EQ(again.traces.size(), r.traces.size());
