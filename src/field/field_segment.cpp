@@ -6,11 +6,13 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <queue>
 
 #include "core/face_regions.hpp"
 #include "isoquad/error.hpp"
 #include "layout/divide_split.hpp"
 #include "seg/disk_patches.hpp"
+#include "seg/patch_topology.hpp"
 
 namespace isoquad {
 
@@ -332,6 +334,74 @@ std::vector<char> changed_patches(const FaceData<uint32_t>& before, uint32_t n_b
   return changed;
 }
 
+// Seeds for the patches that are not disks (FIELD_LAYOUT.md §4), at most kMaxSeeded of them: in
+// each, the vertex farthest from its boundary (or, with no boundary, from its first vertex), and
+// the vertex farthest from that one, both regular interior vertices of the field's surface off
+// the features. Their traces close loops around the handle or join the two seeds, in pairs far
+// apart, so that no patch borders itself.
+std::vector<uint32_t> handle_seeds(const TriMesh& cut, const FaceData<uint32_t>& labels,
+                                   uint32_t patches, const EdgeData<char>& feature,
+                                   const CrossField& cf) {
+  constexpr uint32_t kMaxSeeded = 8;
+  const std::vector<PatchTopology> topo = patch_topology(cut, labels, patches);
+  std::vector<uint32_t> seeds;
+  uint32_t seeded = 0;
+  const uint32_t base_vertices = cf.surface.num_vertices();
+  for (uint32_t p = 0; p < patches; ++p) {
+    if (topo[p].is_disk() || topo[p].faces == 0) continue;
+    if (++seeded > kMaxSeeded) return {};
+    // Vertices inside p: every face around them in p, no feature edge at them.
+    auto inside = [&](uint32_t v) {
+      if (cut.is_boundary_vertex(v)) return false;
+      bool in = true;
+      cut.for_each_outgoing(v, [&](uint32_t he) {
+        in = in && labels[TriMesh::face_of(he)] == p && !feature[cut.edge(he)];
+      });
+      return in;
+    };
+    auto farthest = [&](const std::vector<uint32_t>& from) {
+      std::vector<double> dist(cut.num_vertices(), INFINITY);
+      using Item = std::pair<double, uint32_t>;
+      std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+      for (uint32_t v : from) queue.push({dist[v] = 0, v});
+      while (!queue.empty()) {
+        const auto [d, v] = queue.top();
+        queue.pop();
+        if (d > dist[v]) continue;
+        cut.for_each_outgoing(v, [&](uint32_t he) {
+          if (labels[TriMesh::face_of(he)] != p) return;
+          const uint32_t w = cut.to(he);
+          const double dw = d + norm(cut.position(w) - cut.position(v));
+          if (dw < dist[w]) queue.push({dist[w] = dw, w});
+        });
+      }
+      uint32_t best = kInvalid;
+      for (uint32_t v = 0; v < base_vertices; ++v)
+        if (dist[v] < INFINITY && cf.index4[v] == 0 && inside(v) &&
+            (best == kInvalid || dist[v] > dist[best]))
+          best = v;
+      return best;
+    };
+    std::vector<uint32_t> edge_of_patch;
+    uint32_t first = kInvalid;
+    for (uint32_t f = 0; f < cut.num_faces(); ++f) {
+      if (labels[f] != p) continue;
+      for (uint32_t v : cut.face(f)) {
+        if (first == kInvalid || v < first) first = v;
+        if (!inside(v)) edge_of_patch.push_back(v);
+      }
+    }
+    if (edge_of_patch.empty()) edge_of_patch.push_back(first);
+    const uint32_t a = farthest(edge_of_patch);
+    if (a == kInvalid) continue;
+    seeds.push_back(a);
+    if (const uint32_t b = farthest({a}); b != kInvalid && b != a) seeds.push_back(b);
+  }
+  std::sort(seeds.begin(), seeds.end());
+  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  return seeds;
+}
+
 }  // namespace
 
 FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& feature, double h,
@@ -345,28 +415,45 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   log.singularities = uint32_t(cf.singular.size());
   log.field_seconds = seconds_since(t0);
 
-  t0 = Clock::now();
-  const TraceResult tr = trace_separatrices(cf, {.edge_length = h});
-  log.nodes = uint32_t(tr.nodes.size());
-  log.traces = uint32_t(tr.traces.size());
-  for (const Trace& t : tr.traces) log.t_junctions += t.end == TraceEnd::track;
-  log.connections = tr.connections;
-  log.deleted = tr.deleted;
-  log.rounds = tr.rounds;
-  log.trace_seconds = seconds_since(t0);
-
-  t0 = Clock::now();
   FieldSegmentation out;
-  std::optional<Embedded> em = embed(base, cf, tr, log.failure);
-  if (!em) return out;
-  const TriMesh& cut = em->refined.mesh;
-  const EdgeData<char> seam = seam_edges(cut, em->seams);
   SegmentResult& seg = out.seg;
-  std::vector<uint32_t> region;
-  seg.num_patches = face_regions(
-      cut, [&](uint32_t he) { return !seam[cut.edge(he)] && !em->feature[cut.edge(he)]; },
-      [](uint32_t) { return true; }, region);
-  seg.labels = FaceData<uint32_t>(std::move(region));
+  TraceResult tr;
+  std::optional<Embedded> em;
+  EdgeData<char> seam;
+  TraceOptions to;
+  to.edge_length = h;
+  // Traced, and traced again with seeds if some patch is not a disk (a handle no trace cuts).
+  for (int pass = 0; pass < 2; ++pass) {
+    t0 = Clock::now();
+    tr = trace_separatrices(cf, to);
+    log.nodes = uint32_t(tr.nodes.size());
+    log.traces = uint32_t(tr.traces.size());
+    log.t_junctions = 0;
+    for (const Trace& t : tr.traces) log.t_junctions += t.end == TraceEnd::track;
+    log.connections = tr.connections;
+    log.deleted = tr.deleted;
+    log.rounds = tr.rounds;
+    log.trace_seconds += seconds_since(t0);
+
+    t0 = Clock::now();
+    log.failure.clear();
+    em = embed(base, cf, tr, log.failure);
+    if (!em) return out;
+    const TriMesh& cut = em->refined.mesh;
+    seam = seam_edges(cut, em->seams);
+    std::vector<uint32_t> region;
+    seg.num_patches = face_regions(
+        cut, [&](uint32_t he) { return !seam[cut.edge(he)] && !em->feature[cut.edge(he)]; },
+        [](uint32_t) { return true; }, region);
+    seg.labels = FaceData<uint32_t>(std::move(region));
+    log.embed_seconds += seconds_since(t0);
+    if (pass > 0) break;
+    to.seeds = handle_seeds(cut, seg.labels, seg.num_patches, em->feature, cf);
+    log.seeds = uint32_t(to.seeds.size());
+    if (to.seeds.empty()) break;
+  }
+  t0 = Clock::now();
+  const TriMesh& cut = em->refined.mesh;
   // Patches that are not disks (a handle no trace crossed), pinched, or too small for four
   // corners (between two traces that nearly met) are made disks as VSA's are.
   const FaceData<uint32_t> traced = seg.labels;
@@ -425,7 +512,7 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   out.corners = patch_corners(seg.refined.mesh, seg.labels, seg.meta, h, turns, repaired);
   log.free_corner_patches =
       uint32_t(std::count(out.corners.begin(), out.corners.end(), kFreeCorners));
-  log.embed_seconds = seconds_since(t0);
+  log.embed_seconds += seconds_since(t0);
   return out;
 }
 

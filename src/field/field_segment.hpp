@@ -23,6 +23,7 @@ struct FieldLayoutLog {
   uint32_t t_junctions = 0;          // traces ending on another trace
   uint32_t connections = 0;          // separatrices from node to node, laid first
   uint32_t deleted = 0, rounds = 0;  // traces deleted beside parallel tracks; graphs traced
+  uint32_t seeds = 0;                // seed vertices for patches the traces left not disks
   uint32_t patches = 0;
   // Patches the traces leave without four corners, or that the disk repair (seg/disk_patches)
   // had to split, merge or relabel: their corners are left to the layout's corner program.

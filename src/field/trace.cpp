@@ -797,6 +797,8 @@ TraceResult trace_separatrices(const CrossField& cf, const TraceOptions& options
   uint32_t mismatches = 0;
   VertexData<char> singular(m.num_vertices(), 0);
   for (uint32_t v : cf.singular) singular[v] = 1;
+  VertexData<char> seed(m.num_vertices(), 0);
+  for (uint32_t v : options.seeds) seed[v] = 1;
   std::vector<Ray> rays;
   std::vector<uint32_t> ray_node;
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {
@@ -805,7 +807,8 @@ TraceResult trace_separatrices(const CrossField& cf, const TraceOptions& options
       on_constraint =
           on_constraint || is_constraint(cf, m, h) || m.twin(TriMesh::prev(h)) == kInvalid;
     });
-    const bool node = on_constraint ? singular[v] || is_constraint_node(cf, m, v) : singular[v];
+    const bool node =
+        on_constraint ? singular[v] || is_constraint_node(cf, m, v) : singular[v] || seed[v];
     if (!node) continue;
     std::vector<Ray> at = rays_at(cf, charts, m, v);
     if (!on_constraint) merge_extra_rays(cf, charts, m, v, 4 - cf.index4[v], at);

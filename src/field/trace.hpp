@@ -17,8 +17,9 @@ namespace isoquad {
 struct TraceOptions {
   double edge_length = 0;  // h (mesh units); a trace is capped at min(200 h, 4 sqrt(area))
   // A separatrix passing within capture * h of another node, coming in along one of that
-  // node's rays (within 20 degrees, seen from the node), is taken to be that ray's separatrix too: it ends at the node, and the
-  // node does not trace that ray (FIELD_LAYOUT.md §3 rule 3). 0: no capture.
+  // node's rays (within 20 degrees, seen from the node), is taken to be that ray's separatrix too:
+  // it ends at the node, and the node does not trace that ray (FIELD_LAYOUT.md §3 rule 3). 0: no
+  // capture.
   double capture = 0.5;
   // A trace that runs beside a parallel track (another trace, itself further on, a feature or
   // the boundary) closer than strip * h along at least half of its length, or that finds no
@@ -26,6 +27,10 @@ struct TraceOptions {
   // rounds: it would bound a strip thinner than a quad.
   double strip = 0.5;
   uint32_t rounds = 6;
+  // Regular interior vertices that emit the field's four rays as well (FIELD_LAYOUT.md §4): in
+  // a patch no trace makes a disk (a handle, a tube), their traces close loops around it or
+  // run from one seed to the other.
+  std::vector<uint32_t> seeds;
 };
 
 enum class TraceEnd {

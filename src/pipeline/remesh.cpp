@@ -312,6 +312,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"nodes", r.field_log.nodes},
                        {"traces", r.field_log.traces},
                        {"t_junctions", r.field_log.t_junctions},
+                       {"seeds", r.field_log.seeds},
                        {"connections", r.field_log.connections},
                        {"deleted", r.field_log.deleted},
                        {"rounds", r.field_log.rounds},

@@ -174,18 +174,36 @@ TEST(CorpusFieldLayout, SphereIsLaidOutAsACube) {
   EXPECT_LT(field.quality.edge_cv, vsa.quality.edge_cv);
 }
 
-// Where the traces cannot make patches (the knot: a tube with no singularity and no feature, so
-// no trace and one patch that is not a disk), the component takes VSA's patches, and the report
-// says why.
-TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
+// The knot: a tube with no singularity and no feature, so no trace, and one patch that is a
+// torus. Two seeds far apart close a loop around the tube each and join along it: four disks, and
+// a quad mesh without an irregular vertex (VSA's blobs leave about a hundred).
+TEST(CorpusFieldLayout, KnotIsCutByTheLoopsOfTwoSeeds) {
   ISOQUAD_CORPUS_MESH(path, "knot1.off");
   const ReadResult input = read_mesh(path);
   const LaidOut field = remesh_with(input, "field");
   const ComponentRun& r = field.run.runs[0];
-  EXPECT_FALSE(r.field_used);
-  EXPECT_FALSE(r.field_log.failure.empty());
+  ASSERT_TRUE(r.field_used) << r.field_log.failure;
   EXPECT_EQ(r.field_log.singularities, 0u);
-  EXPECT_EQ(r.field_log.traces, 0u);
+  EXPECT_EQ(r.field_log.seeds, 2u);
+  EXPECT_EQ(r.seg.num_patches, 4u);
+  EXPECT_EQ(r.field_log.free_corner_patches, 0u);
+  EXPECT_EQ(field.quality.irregular, 0u);
+  EXPECT_EQ(field.quality.sj_nonpositive, 0u);
+  EXPECT_GT(field.quality.sj_mean, 0.95);
+  EXPECT_GT(field.quality.sj_min, 0.5);
+}
+
+// Where the traced patches cannot be used (here nefertiti: the map's solve stays inaccurate on
+// them), the component takes VSA's patches, and the report says why.
+TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
+  ISOQUAD_CORPUS_MESH(path, "nefertiti.off");
+  const ReadResult input = read_mesh(path);
+  const LaidOut field = remesh_with(input, "field");
+  const ComponentRun& r = field.run.runs[0];
+  EXPECT_FALSE(r.field_used);
+  EXPECT_NE(r.field_log.failure.find("a stage after the traced layout failed"), std::string::npos)
+      << r.field_log.failure;
+  EXPECT_GT(r.field_log.traces, 0u);
   const auto report = nlohmann::json::parse(field.run.result.report);
   EXPECT_EQ(report["components"][0]["layout_source"], "vsa");
   EXPECT_EQ(report["components"][0]["field"]["fallback_reason"], r.field_log.failure);

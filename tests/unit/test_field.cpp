@@ -6,6 +6,7 @@
 
 #include "field/cross_field.hpp"
 #include "field/feature_curves.hpp"
+#include "field/field_segment.hpp"
 #include "field/trace.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
@@ -305,4 +306,21 @@ TEST(Trace, TorusHasNoNodes) {
   const PreparedComponent c = prepared(test::torus(48, 16));
   const CrossField cf = field_of(c);
   EXPECT_TRUE(traces_of(cf, 0.1).nodes.empty());
+}
+
+// A torus has no node, so no trace and one patch that is not a disk: two seeds far apart, each
+// closing a loop around the tube and joining the other along it, cut it into four disks whose
+// corners are all the traces' (FIELD_LAYOUT.md §4).
+TEST(FieldSegment, TorusIsCutIntoFourDisksBySeeds) {
+  const PreparedComponent c = prepared(test::torus(48, 16));
+  FieldLayoutLog log;
+  const FieldSegmentation fs =
+      field_segment(c.mesh, c.feature, edge_length_for_quads(c.mesh, 400), log);
+  ASSERT_TRUE(log.failure.empty()) << log.failure;
+  EXPECT_EQ(log.singularities, 0u);
+  EXPECT_EQ(log.seeds, 2u);
+  EXPECT_EQ(fs.seg.num_patches, 4u);
+  EXPECT_EQ(log.free_corner_patches, 0u);
+  ASSERT_EQ(fs.corners.size(), 4u);
+  for (const auto& corners : fs.corners) EXPECT_NE(corners, kFreeCorners);
 }
