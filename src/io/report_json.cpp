@@ -35,13 +35,14 @@ void to_json(nlohmann::json& j, const ComponentReport& r) {
        {"flat_flips", r.flat_flips}};
 }
 
+void to_json(nlohmann::json& j, const InputIssue& i) {
+  j = {{"severity", severity_name(i.severity)},
+       {"code", i.code},
+       {"message", i.message},
+       {"count", i.count}};
+}
+
 void to_json(nlohmann::json& j, const InputReport& r) {
-  nlohmann::json issues = nlohmann::json::array();
-  for (const InputIssue& i : r.issues)
-    issues.push_back({{"severity", severity_name(i.severity)},
-                      {"code", i.code},
-                      {"message", i.message},
-                      {"count", i.count}});
   j = {{"input_vertices", r.input_vertices},
        {"input_faces", r.input_faces},
        {"input_polygons", r.input_polygons},
@@ -60,7 +61,7 @@ void to_json(nlohmann::json& j, const InputReport& r) {
          {"max", {r.bounding_box.hi.x, r.bounding_box.hi.y, r.bounding_box.hi.z}},
          {"diagonal", r.bounding_box.diagonal()}}},
        {"components", r.components},
-       {"issues", issues},
+       {"issues", r.issues},
        {"remesh_would_accept", !r.has_errors()}};
 }
 

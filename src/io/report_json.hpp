@@ -8,6 +8,7 @@
 
 namespace isoquad {
 
+void to_json(nlohmann::json& j, const InputIssue& issue);
 void to_json(nlohmann::json& j, const InputReport& report);
 void to_json(nlohmann::json& j, const ComponentReport& report);
 void to_json(nlohmann::json& j, const Topology& t);

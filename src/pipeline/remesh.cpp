@@ -69,6 +69,15 @@ void check_options(const RemeshOptions& o) {
     refuse("tolerance rounds must be at least 1 with a tolerance");
 }
 
+using Say = std::function<void(const std::string&)>;
+
+// Every repair and warning of a run passes here, so that none is silent: said (the command line
+// prints it on stderr unless -q) and kept for the report.
+void warn(RemeshRun& run, InputIssue issue, const Say& say) {
+  say(fmt::format("warning: {} [{}]", issue.message, issue.code));
+  run.warnings.push_back(std::move(issue));
+}
+
 }  // namespace
 
 PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
@@ -96,6 +105,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   const double prep_s = seconds_since(t0);
   say(fmt::format("prepared {} component{} ({:.0f} ms)", prep.components.size(),
                   prep.components.size() == 1 ? "" : "s", 1e3 * prep_s));
+  for (const InputIssue& issue : prep.report.issues) warn(run, issue, say);
   PipelineOptions o;
   o.patches = opt.patches;
   o.edge_length = opt.edge_length;
@@ -312,6 +322,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   nlohmann::json j = {{"quads", out.quads.num_faces()},
                       {"options", options_json(opt)},
                       {"components", comps},
+                      {"warnings", run.warnings},
                       {"seconds", {{"prepare", prep_s}}}};
   if (opt.quality) {
     t0 = std::chrono::steady_clock::now();

@@ -24,6 +24,9 @@ struct RemeshRun {
   PreparedMesh prep;
   std::vector<ComponentRun> runs;
   PolyRemesh result;
+  // Every repair and warning of the run, in order: said through the progress as it happens and
+  // listed in the report's "warnings".
+  std::vector<InputIssue> warnings;
 };
 
 RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& options,

@@ -247,6 +247,32 @@ TEST(Cli, RemeshJsonStdoutIsOneDocumentWhateverHappens) {
   std::filesystem::remove(out);
 }
 
+// Every repair preparation makes is said by remesh on stderr (unless -q) and listed in the
+// JSON's "warnings" (before, only `info` told them): here a duplicate face and an unused vertex.
+TEST(Cli, RemeshSaysEveryRepairOnStderrAndInTheJson) {
+  const auto in = std::filesystem::temp_directory_path() / "isoquad_cli_repairs.off";
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_repairs_quads.obj";
+  isoquad::PolyMesh m = isoquad::test::icosphere(2);
+  const auto first = m.face(0);
+  m.add_face({first[0], first[1], first[2]});
+  m.positions.push_back({5, 5, 5});
+  isoquad::write_mesh(in, m);
+  const CliRun r = run("remesh --quads 300 --json " + in.string() + " -o " + out.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: dropped 1 duplicate faces [W106]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("warning: ignored 1 vertices that no face uses [W108]"), std::string::npos)
+      << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  std::set<std::string> codes;
+  for (const auto& w : doc["warnings"]) codes.insert(w["code"].get<std::string>());
+  EXPECT_EQ(codes, (std::set<std::string>{"W106", "W108"}));
+  const CliRun quiet = run("remesh -q --quads 300 " + in.string() + " -o " + out.string());
+  ASSERT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+  std::filesystem::remove(in);
+  std::filesystem::remove(out);
+}
+
 // A mistyped subcommand or option is named, with the nearest valid one (CLI11 said "A
 // subcommand is required" for `isoquad remsh`), and the status is that of invalid input.
 TEST(Cli, UnknownSubcommandAndOptionAreNamedWithASuggestion) {
