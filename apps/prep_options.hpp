@@ -90,12 +90,11 @@ inline void add_patch_options(CLI::App& sub, PatchArgs& a) {
   sub.add_option("--seed", a.seed, "Random seed")->capture_default_str();
 }
 
-// Segmentation options for one component: the requested size shared out by area.
-inline SegmentOptions segment_options(const PatchArgs& a, const TriMesh& component,
-                                      double area_share, double scale) {
-  return SegmentOptions::sized(
-      component_edge_length(component, area_share, {a.edge_length, a.quads}, scale), a.patches,
-      a.seed);
+// Segmentation options for component `c`: its part of the requested size (one budget for the
+// whole mesh, shared out by area).
+inline SegmentOptions segment_options(const PatchArgs& a, const PreparedMesh& prep, uint32_t c) {
+  return SegmentOptions::sized(component_size(prep, c, {a.edge_length, a.quads}).edge_length,
+                               a.patches, a.seed);
 }
 
 }  // namespace isoquad::cli

@@ -206,7 +206,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
 
   LayoutOptions sized_layout = o.layout;
   sized_layout.edge_length = o.edge_length > 0 ? h : 0;
-  sized_layout.quads = o.edge_length > 0 ? 0 : (o.quads > 0 ? o.quads * run.area_share : 0);
+  sized_layout.quads = run.quads_asked;
   LayoutOptions lo = sized_layout;
   t0 = Clock::now();
   auto split = [&] {
@@ -549,6 +549,7 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
     ComponentRun again;
     again.component = run.component;
     again.area_share = run.area_share;
+    again.quads_asked = run.quads_asked;
     again.surface = run.surface;
     again.surface_feature = run.surface_feature;
     again.subdivisions = run.subdivisions;
@@ -792,14 +793,13 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
 
 // The component at the size `o` asks for, with the patch count it asks for (or VSA's).
 ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
-  double total_area = 0;
-  for (const auto& comp : prep.components) total_area += surface_area(comp.mesh);
   const PreparedComponent& comp = prep.components.at(c);
+  const ComponentSize size = component_size(prep, c, {o.edge_length, o.quads});
   ComponentRun run;
   run.component = c;
-  run.area_share = total_area > 0 ? surface_area(comp.mesh) / total_area : 1.0;
-  const double h = component_edge_length(comp.mesh, run.area_share, {o.edge_length, o.quads},
-                                         prep.normalization.scale);
+  run.area_share = size.area_share;
+  run.quads_asked = size.quads;
+  const double h = size.edge_length;
   const double diagonal = mesh_diagonal(prep);
   // A big patch with a long protrusion crowds its tip exponentially in any harmonic map; on a
   // finer surface the crowded triangles get too small to certify (E553), and few patches on a

@@ -145,6 +145,7 @@ struct SizeRound {
 struct ComponentRun {
   uint32_t component = 0;  // index into PreparedMesh::components
   double area_share = 1;   // of the whole surface
+  double quads_asked = 0;  // its share of the count asked for, or of the default; 0: an edge length
   // The surface the stages work on: the prepared component, subdivided `subdivisions` times,
   // with provenance in the component; its feature edges are the children of feature edges.
   RefinedMesh surface;

@@ -15,15 +15,27 @@ double edge_length_for_quads(const TriMesh& mesh, double quads) {
   return std::sqrt(surface_area(mesh) / std::max(quads, 1.0));
 }
 
-double default_quad_count(const TriMesh& mesh) {
-  return std::clamp(mesh.num_faces() / 8.0, 1000.0, 20000.0);
+double default_quad_count(std::size_t triangles) {
+  return std::clamp(double(triangles) / 8.0, 1000.0, 20000.0);
 }
 
-double component_edge_length(const TriMesh& component, double share, const SizeRequest& r,
-                             double scale) {
-  if (r.edge_length > 0) return r.edge_length * scale;
-  const double quads = r.quads > 0 ? r.quads * share : default_quad_count(component);
-  return edge_length_for_quads(component, quads);
+ComponentSize component_size(const PreparedMesh& prep, uint32_t c, const SizeRequest& r) {
+  double total_area = 0;
+  std::size_t triangles = 0;
+  for (const PreparedComponent& comp : prep.components) {
+    total_area += surface_area(comp.mesh);
+    triangles += comp.mesh.num_faces();
+  }
+  const TriMesh& mesh = prep.components.at(c).mesh;
+  ComponentSize s;
+  s.area_share = total_area > 0 ? surface_area(mesh) / total_area : 1.0;
+  if (r.edge_length > 0) {
+    s.edge_length = r.edge_length * prep.normalization.scale;
+    return s;
+  }
+  s.quads = (r.quads > 0 ? r.quads : default_quad_count(triangles)) * s.area_share;
+  s.edge_length = edge_length_for_quads(mesh, s.quads);
+  return s;
 }
 
 }  // namespace isoquad

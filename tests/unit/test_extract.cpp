@@ -619,6 +619,36 @@ TEST(Remesh, ComponentsAreRemeshedApartAndMerged) {
   EXPECT_NEAR(shares, 1.0, 1e-12);
 }
 
+// The default size is one budget for the whole input (one quad per 8 triangles, 1,000 to
+// 20,000), shared by area: 18 small spheres of 80 triangles get about 1,000 quads together.
+// With a default per component, and the layout's own default on each subdivided surface, 1,368
+// triangles in 18 components asked for 43,745 quads and ran past two minutes.
+TEST(Remesh, DefaultSizeIsOneBudgetSharedByTheComponents) {
+  const PolyMesh sphere = test::icosphere(1);
+  PolyMesh input;
+  for (uint32_t k = 0; k < 18; ++k) {
+    const uint32_t base = uint32_t(input.positions.size());
+    for (const Vec3& p : sphere.positions)
+      input.positions.push_back(p + Vec3{3.0 * (k % 6), 3.0 * (k / 6), 0});
+    for (std::size_t f = 0; f < sphere.num_faces(); ++f)
+      input.add_face(
+          {base + sphere.face(f)[0], base + sphere.face(f)[1], base + sphere.face(f)[2]});
+  }
+  ASSERT_EQ(input.num_faces(), 1440u);
+  const RemeshRun run = remesh_run(input, RemeshOptions{});
+  ASSERT_EQ(run.runs.size(), 18u);
+  for (const ComponentRun& r : run.runs) {
+    EXPECT_NEAR(r.quads_asked, 1000.0 / 18, 1e-6);
+    EXPECT_LT(r.quads.quads.size(), 2 * 1000 / 18);  // the rounds may double the quads at most
+  }
+  const QualityReport q = measure_quality(run.result.quads, &input);
+  EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.topology.components, 18u);
+  EXPECT_GT(run.result.quads.num_faces(), 500u);
+  EXPECT_LT(run.result.quads.num_faces(), 1200u);
+}
+
 TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {
   const Remeshed r = remesh_shape(test::torus(48, 20), 0, 600);
   QuadMesh q = r.run.quads;
