@@ -29,7 +29,6 @@ inline CLI::Validator number_in(double lo, double hi, const std::string& what) {
 struct PrepArgs {
   bool repair = false;
   double weld_eps = 0.0;
-  uint32_t min_component_faces = 10;
   double feature_angle = 60.0;
 
   ReadOptions read_options() const { return {.drop_degenerate_faces = repair}; }
@@ -38,7 +37,6 @@ struct PrepArgs {
     o.repair = repair;
     o.weld_all = read.unshared_vertices;
     o.weld_epsilon = weld_eps;
-    o.min_component_faces = min_component_faces;
     o.feature_angle_deg = feature_angle;
     return o;
   }
@@ -52,9 +50,6 @@ inline void add_prep_options(CLI::App& sub, PrepArgs& a) {
                  "Weld boundary vertices closer than this fraction of the bounding-box diagonal")
       ->capture_default_str()
       ->check(number_in(0, 0.1, "a fraction in [0, 0.1]"));
-  sub.add_option("--min-component-faces", a.min_component_faces,
-                 "Drop connected components with fewer faces (with a warning)")
-      ->capture_default_str();
   sub.add_option("--feature-angle", a.feature_angle,
                  "Dihedral angle in degrees above which an edge is a feature (0: none)")
       ->capture_default_str()

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
+#include "extract/split_triangles.hpp"
 #include "isoquad/error.hpp"
 #include "metrics/aabb_tree.hpp"
 #include "metrics/quality.hpp"
@@ -889,6 +890,16 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
 }  // namespace
 
 ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
+  const TriMesh& mesh = prep.components.at(c).mesh;
+  if (mesh.num_faces() < kTriangleSplitBelowFaces) {
+    ComponentRun small;
+    small.component = c;
+    small.area_share = component_size(prep, c, {o.edge_length, o.quads}).area_share;
+    small.triangle_split = true;
+    small.surface = identity_refinement(mesh);
+    small.quads = split_triangles_into_quads(mesh);
+    return small;
+  }
   ComponentRun run = run_sized(prep, c, o);
   if (o.edge_length > 0 || o.quads > 0 || o.tolerance <= 0 || o.tolerance_rounds == 0 ||
       o.last != Stage::extract || run.quads.quads.empty())
@@ -955,7 +966,8 @@ PolyMesh merge_quads(const PreparedMesh& prep, const std::vector<ComponentRun>& 
       out.add_face({base + v[0], base + v[1], base + v[2], base + v[3]});
       out.face_group.push_back(int32_t(patch_base + run.quads.quad_patch[q]));
     }
-    patch_base += uint32_t(run.layout.charts.size());
+    patch_base +=
+        run.triangle_split ? run.surface.mesh.num_faces() : uint32_t(run.layout.charts.size());
   }
   return out;
 }

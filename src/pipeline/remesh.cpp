@@ -133,12 +133,21 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   for (uint32_t c = 0; c < prep.components.size(); ++c) {
     runs.push_back(run_component(prep, c, o));
     const ComponentRun& r = runs.back();
-    say(fmt::format(
-        "component {}: segment {} patches ({:.0f} ms), layout {} quads ({:.0f} ms), "
-        "param {} factorizations{} ({:.0f} ms), extract ({:.0f} ms)",
-        c, r.seg.num_patches, 1e3 * r.segment_seconds, r.layout.quads(), 1e3 * r.layout_seconds,
-        r.param_report.factorizations, r.param_report.fell_back_to_locked ? ", locked map" : "",
-        1e3 * r.param_seconds, 1e3 * r.extract_seconds));
+    if (r.triangle_split)
+      warn(run,
+           {InputIssue::Severity::warning, "W109",
+            fmt::format("component {} has {} faces, too few for patches: each triangle split "
+                        "into three quads",
+                        prep.components[c].report_index, r.surface.mesh.num_faces()),
+            1},
+           say);
+    else
+      say(fmt::format(
+          "component {}: segment {} patches ({:.0f} ms), layout {} quads ({:.0f} ms), "
+          "param {} factorizations{} ({:.0f} ms), extract ({:.0f} ms)",
+          c, r.seg.num_patches, 1e3 * r.segment_seconds, r.layout.quads(), 1e3 * r.layout_seconds,
+          r.param_report.factorizations, r.param_report.fell_back_to_locked ? ", locked map" : "",
+          1e3 * r.param_seconds, 1e3 * r.extract_seconds));
     if (r.size_rounds.size() > 1) {
       std::string tried;
       for (std::size_t k = 0; k < r.size_rounds.size(); ++k)
@@ -253,10 +262,11 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"folded_before", r.misfit_split.folded_before},
                        {"folded_after", r.misfit_split.folded_after},
                        {"kept", r.misfit_split.kept}}},
+                     {"triangle_split", r.triangle_split},
                      {"patches", r.seg.num_patches},
                      {"meta_vertices", r.seg.meta.vertices.size()},
                      {"meta_vertex_valence", valence},
-                     {"quads", r.layout.quads()},
+                     {"quads", r.triangle_split ? int64_t(r.quads.quads.size()) : r.layout.quads()},
                      {"edge_length", r.layout.edge_length / prep.normalization.scale},
                      {"layout_repairs", r.layout_report.repairs},
                      {"length_ratio",

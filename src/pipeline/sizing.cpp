@@ -23,11 +23,17 @@ ComponentSize component_size(const PreparedMesh& prep, uint32_t c, const SizeReq
   double total_area = 0;
   std::size_t triangles = 0;
   for (const PreparedComponent& comp : prep.components) {
-    total_area += surface_area(comp.mesh);
     triangles += comp.mesh.num_faces();
+    if (comp.mesh.num_faces() >= kTriangleSplitBelowFaces) total_area += surface_area(comp.mesh);
   }
   const TriMesh& mesh = prep.components.at(c).mesh;
   ComponentSize s;
+  if (mesh.num_faces() < kTriangleSplitBelowFaces) {
+    s.area_share = 0;
+    s.quads = 3.0 * mesh.num_faces();
+    s.edge_length = edge_length_for_quads(mesh, s.quads);
+    return s;
+  }
   s.area_share = total_area > 0 ? surface_area(mesh) / total_area : 1.0;
   if (r.edge_length > 0) {
     s.edge_length = r.edge_length * prep.normalization.scale;

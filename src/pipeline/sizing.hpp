@@ -17,6 +17,13 @@ double edge_length_for_quads(const TriMesh& mesh, double quads);
 // triangles, clamped to [1000, 20000].
 double default_quad_count(std::size_t triangles);
 
+// A component with fewer faces than four patches of three faces each (the smallest patch the
+// segmentation keeps, seg/disk_patches.cpp) is not segmented: each of its triangles is split
+// into three quads (extract/split_triangles.hpp), and it takes no share of the count. Such
+// components were dropped before (under 10 faces: a tetrahedron beside a sphere, a lone
+// triangle).
+constexpr uint32_t kTriangleSplitBelowFaces = 12;
+
 // What the user asks for, for the whole mesh.
 struct SizeRequest {
   double edge_length = 0;  // input units; 0: use quads
@@ -24,11 +31,11 @@ struct SizeRequest {
 };
 
 // One component's part of a request: the quad count is one budget for the whole mesh, shared
-// out by area (with the default count too: per component, 18 components of 76 triangles each
-// asked for 1,000 quads, and 43,745 in all after the layout's own default on the subdivided
-// surface).
+// out by area among the components not split into quads (with the default count too: per component,
+// 18 components of 76 triangles each asked for 1,000 quads, and 43,745 in all after the layout's
+// own default on the subdivided surface).
 struct ComponentSize {
-  double area_share = 1;   // of the whole surface
+  double area_share = 1;   // of the surface of the components not split into quads (0 if split)
   double quads = 0;        // its share of the count; 0 with an edge length
   double edge_length = 0;  // h in the mesh's (normalized) units
 };

@@ -134,13 +134,6 @@ PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
       report.issues.push_back({Severity::error, "E102", msg, 1});
     } else {
       r.genus = (2 - r.euler - r.boundary_loops) / 2;
-      if (r.faces < options.min_component_faces) {
-        r.kept = false;
-        report.issues.push_back({Severity::warning, "W109",
-                                 fmt::format("dropped component {} ({} faces, fewer than {})", c,
-                                             r.faces, options.min_component_faces),
-                                 1});
-      }
     }
     if (r.kept)
       for (uint32_t t : comps[c].tris)

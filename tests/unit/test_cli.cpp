@@ -88,11 +88,11 @@ TEST(Cli, InfoExplainsWhatRemeshWouldReject) {
   std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\n";
   obj += "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
   const auto p = write_temp("isoquad_cli_nm.obj", obj);
-  const CliRun r = run("info --min-component-faces 1 " + p.string());
+  const CliRun r = run("info " + p.string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("reject E101"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("would reject"), std::string::npos);
-  const CliRun fixed = run("info --repair --min-component-faces 1 " + p.string());
+  const CliRun fixed = run("info --repair " + p.string());
   EXPECT_EQ(fixed.status, 0) << fixed.out;
   EXPECT_NE(fixed.out.find("repair W101"), std::string::npos) << fixed.out;
   std::filesystem::remove(p);

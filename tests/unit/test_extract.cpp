@@ -4,7 +4,9 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 
 #include "corpus.hpp"
 #include "extract/collapse.hpp"
@@ -647,6 +649,65 @@ TEST(Remesh, DefaultSizeIsOneBudgetSharedByTheComponents) {
   EXPECT_EQ(q.topology.components, 18u);
   EXPECT_GT(run.result.quads.num_faces(), 500u);
   EXPECT_LT(run.result.quads.num_faces(), 1200u);
+}
+
+// A component too small for patches is remeshed, not dropped: each triangle split into three
+// quads, conforming, of the same topology and orientation. A lone triangle gives 3 quads.
+TEST(Remesh, LoneTriangleGivesThreeQuads) {
+  PolyMesh tri;
+  tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  tri.add_face({0, 1, 2});
+  const RemeshRun run = remesh_run(tri, RemeshOptions{});
+  const PolyMesh& quads = run.result.quads;
+  ASSERT_EQ(quads.num_faces(), 3u);
+  EXPECT_EQ(quads.num_vertices(), 7u);  // 3 corners, 3 midpoints, the centroid
+  const QualityReport q = measure_quality(quads, &tri);
+  EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  for (std::size_t f = 0; f < 3; ++f) {  // counter-clockwise, as the triangle (+z)
+    const auto v = quads.face(f);
+    const Vec3 n = cross(quads.positions[v[1]] - quads.positions[v[0]],
+                         quads.positions[v[3]] - quads.positions[v[0]]);
+    EXPECT_GT(n.z, 0) << f;
+  }
+  ASSERT_EQ(run.warnings.size(), 1u);
+  EXPECT_EQ(run.warnings[0].code, "W109");
+}
+
+// A sphere and a tetrahedron (4 faces, dropped before): both components are in the output,
+// the tetrahedron as 12 quads, and the whole is valid as every remesh output is; the JSON says
+// which component took that path.
+TEST(Remesh, SphereAndTetrahedronKeepBothComponents) {
+  PolyMesh input = test::icosphere(2);
+  const uint32_t n = uint32_t(input.positions.size());
+  input.positions.insert(input.positions.end(), {{3, 0, 0}, {4, 0, 0}, {3, 1, 0}, {3, 0, 1}});
+  for (const std::array<uint32_t, 3>& t :
+       {std::array<uint32_t, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}})
+    input.add_face({n + t[0], n + t[1], n + t[2]});
+  RemeshOptions o;
+  o.quads = 300;
+  const RemeshRun run = remesh_run(input, o);
+  ASSERT_EQ(run.runs.size(), 2u);
+  EXPECT_FALSE(run.runs[0].triangle_split);
+  EXPECT_TRUE(run.runs[1].triangle_split);
+  EXPECT_EQ(run.runs[1].quads.quads.size(), 12u);
+  EXPECT_EQ(run.runs[0].area_share, 1.0);  // the whole count for the sphere
+  const QualityReport q = measure_quality(run.result.quads, &input);
+  EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.topology.components, 2u);
+  EXPECT_EQ(q.topology.euler, 4);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  const auto report = nlohmann::json::parse(run.result.report);
+  EXPECT_EQ(report["components"][1]["triangle_split"], true);
+  EXPECT_EQ(report["components"][1]["quads"], 12);
+  EXPECT_EQ(report["components"][0]["triangle_split"], false);
+  // Patch ids: the sphere's, then one per tetrahedron face.
+  std::set<int32_t> tet_patches(run.result.quads.face_group.end() - 12,
+                                run.result.quads.face_group.end());
+  EXPECT_EQ(tet_patches.size(), 4u);
+  EXPECT_EQ(*tet_patches.begin(), int32_t(run.runs[0].layout.charts.size()));
 }
 
 TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {

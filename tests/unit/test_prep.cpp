@@ -15,15 +15,6 @@ using namespace isoquad;
 
 namespace {
 
-std::string error_code(const PolyMesh& m, PrepOptions o = {}) {
-  try {
-    prepare(m, o);
-  } catch (const Error& e) {
-    return e.code();
-  }
-  return "accepted";
-}
-
 double signed_volume(const TriMesh& m) {
   double v = 0;
   for (const Tri& t : m.faces())
@@ -123,7 +114,7 @@ TEST(Prepare, QuadsBentBeyondTheToleranceAreNotFlipped) {
     m.positions = {{0, 0, 0}, {4, 0, 0}, {2, 0.2, lift}, {2, -0.2, lift}};
     m.add_face({0, 1, 2});
     m.add_face({1, 0, 3});
-    const PreparedMesh p = prepare(m, {.min_component_faces = 1});
+    const PreparedMesh p = prepare(m);
     EXPECT_EQ(p.report.components[0].flat_flips, lift == 0 ? 1u : 0u) << "lift " << lift;
     EXPECT_NEAR(p.report.components[0].area, 0.8, 1e-4);
   }
@@ -179,7 +170,7 @@ TEST(Prepare, NonManifoldEdgeIsRejectedOrDetached) {
   m.add_face({1, 0, 3});
   m.add_face({0, 1, 4});
   try {
-    prepare(m, {.min_component_faces = 1});
+    prepare(m);
     FAIL() << "accepted a non-manifold edge";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), "E101");
@@ -188,7 +179,7 @@ TEST(Prepare, NonManifoldEdgeIsRejectedOrDetached) {
     EXPECT_NE(std::string(e.what()).find("--repair"), std::string::npos);
     EXPECT_EQ(e.context().faces, (std::vector<uint32_t>{0, 1, 2}));
   }
-  const PreparedMesh p = prepare(m, {.repair = true, .min_component_faces = 1});
+  const PreparedMesh p = prepare(m, {.repair = true});
   EXPECT_EQ(p.report.non_manifold_edges, 1u);
   ASSERT_EQ(p.components.size(), 2u);  // the pair that stays glued, and the detached face
   EXPECT_EQ(p.components[0].mesh.num_faces(), 2u);
@@ -202,7 +193,7 @@ TEST(Prepare, BowTieVertexIsSplit) {
   m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
   m.add_face({0, 1, 2});
   m.add_face({0, 3, 4});
-  const PreparedMesh p = prepare(m, {.min_component_faces = 1});
+  const PreparedMesh p = prepare(m);
   EXPECT_EQ(p.report.split_vertices, 1u);
   ASSERT_EQ(p.components.size(), 2u);
   EXPECT_EQ(p.components[0].mesh.num_vertices() + p.components[1].mesh.num_vertices(), 6u);
@@ -317,7 +308,7 @@ TEST(Prepare, PolygonsAreTriangulatedWithoutLosingArea) {
   PolyMesh l;  // an L-shaped (non-convex) hexagon
   l.positions = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
   l.add_face({0, 1, 2, 3, 4, 5});
-  const PreparedMesh p = prepare(l, {.min_component_faces = 1});
+  const PreparedMesh p = prepare(l);
   const TriMesh& m = p.components[0].mesh;
   EXPECT_EQ(m.num_faces(), 4u);
   EXPECT_NEAR(p.report.components[0].area, 3.0, 1e-12);
@@ -325,19 +316,22 @@ TEST(Prepare, PolygonsAreTriangulatedWithoutLosingArea) {
   EXPECT_EQ(m.boundary_loops()[0].size(), 6u);
 }
 
-TEST(Prepare, TinyComponentsAreDroppedAndNothingLeftIsAnError) {
+// Small components are kept (the pipeline splits their triangles into quads); they were dropped
+// under 10 faces, and a lone triangle was E103.
+TEST(Prepare, TinyComponentsAreKept) {
   PolyMesh m = test::icosphere(1);
   const uint32_t n = uint32_t(m.positions.size());
   m.positions.insert(m.positions.end(), {{5, 0, 0}, {6, 0, 0}, {5, 1, 0}});
   m.add_face({n, n + 1, n + 2});
   const PreparedMesh p = prepare(m);
-  EXPECT_EQ(p.components.size(), 1u);
-  EXPECT_EQ(p.report.components.size(), 2u);
-  EXPECT_FALSE(p.report.components[1].kept);
+  ASSERT_EQ(p.components.size(), 2u);
+  EXPECT_TRUE(p.report.components[1].kept);
+  EXPECT_EQ(p.components[1].mesh.num_faces(), 1u);
+  EXPECT_TRUE(p.report.issues.empty());
   PolyMesh single;
   single.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   single.add_face({0, 1, 2});
-  EXPECT_EQ(error_code(single), "E103");
+  EXPECT_EQ(prepare(single).components.size(), 1u);
 }
 
 TEST(Prepare, NormalizationRoundTrip) {
