@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 
 #include "isoquad/error.hpp"
 #include "prep/steps.hpp"
@@ -69,6 +70,27 @@ void shape_statistics(const std::vector<Vec3>& positions, const std::vector<Tri>
   r.min_angle_deg = min_angle * 180.0 / std::numbers::pi;
 }
 
+// Welding boundary vertices may close a hole or merge two boundary loops (a mesh with 106 holes
+// had 105 after it): such a weld is a change of topology, done only with `repair` (or for STL
+// soups, which share no vertex at all). Otherwise the vertices stay apart, with a warning.
+void hold_topology_changing_weld(const PolyMesh& soup, const PrepOptions& options,
+                                 std::vector<uint32_t>& weld, InputReport& report) {
+  if (report.welded_vertices == 0 || options.weld_all || options.repair) return;
+  std::vector<uint32_t> apart(weld.size());
+  std::iota(apart.begin(), apart.end(), 0u);
+  const prep::WeldTopology before = prep::weld_topology(soup, apart),
+                           after = prep::weld_topology(soup, weld);
+  if (before == after) return;
+  note(report, Severity::warning, "W112", report.welded_vertices,
+       fmt::format("kept {} coincident boundary vertices apart: welding them would change the "
+                   "topology (Euler characteristic {} -> {}, boundary loops {} -> {}); --repair "
+                   "welds them",
+                   report.welded_vertices, before.euler, after.euler, before.boundary_loops,
+                   after.boundary_loops));
+  weld = std::move(apart);
+  report.welded_vertices = 0;
+}
+
 }  // namespace
 
 PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
@@ -97,7 +119,8 @@ PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
   Box3 box;
   for (const Vec3& p : soup.positions) box.add(p);
   const double weld_eps = options.weld_epsilon * box.diagonal();
-  const auto weld = prep::weld_map(soup, options.weld_all, weld_eps, report.welded_vertices);
+  auto weld = prep::weld_map(soup, options.weld_all, weld_eps, report.welded_vertices);
+  hold_topology_changing_weld(soup, options, weld, report);
   prep::Soup s = prep::triangulate(soup, weld, report);
   note(report, Severity::repaired, "W104", report.welded_vertices,
        fmt::format("welded {} coincident vertices", report.welded_vertices));

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <cmath>
+#include <map>
 
 #include <numbers>
 
@@ -254,6 +255,73 @@ TEST(Prepare, CoincidentInteriorVerticesAreNotWelded) {
   ASSERT_EQ(p.components.size(), 2u);
   EXPECT_EQ(p.components[0].mesh.euler_characteristic(), 2);
   EXPECT_EQ(p.components[1].mesh.euler_characteristic(), 2);
+}
+
+// Welding coincident boundary vertices that changes the topology is a repair: done with
+// --repair only (a mesh with 106 holes had 105 after it, without a word). A plate whose hole
+// is filled by a lid with its own vertices: welding closes the hole (3 boundary loops -> 1).
+TEST(Prepare, WeldThatClosesAHoleIsDoneOnlyWithRepair) {
+  const PolyMesh grid = test::grid_plate(10, 10);
+  PolyMesh m;
+  m.positions = grid.positions;
+  std::map<uint32_t, uint32_t> lid;  // the lid's own copy of each of its vertices
+  for (std::size_t f = 0; f < grid.num_faces(); ++f) {
+    Vec3 c;
+    for (const uint32_t v : grid.face(f)) c += grid.positions[v] / 3.0;
+    std::vector<uint32_t> vs(grid.face(f).begin(), grid.face(f).end());
+    if (std::fabs(c.x - 0.5) < 0.2 && std::fabs(c.y - 0.5) < 0.2)
+      for (uint32_t& v : vs) {
+        if (!lid.count(v)) {
+          lid[v] = uint32_t(m.positions.size());
+          m.positions.push_back(grid.positions[v]);
+        }
+        v = lid[v];
+      }
+    m.add_face(vs);
+  }
+  const auto loops = [](const PreparedMesh& p) {
+    uint32_t n = 0;
+    for (const ComponentReport& c : p.report.components) n += c.boundary_loops;
+    return n;
+  };
+  const PreparedMesh kept = prepare(m);
+  EXPECT_EQ(kept.components.size(), 2u);
+  EXPECT_EQ(loops(kept), 3u);
+  EXPECT_EQ(kept.report.welded_vertices, 0u);
+  ASSERT_FALSE(kept.report.issues.empty());
+  EXPECT_EQ(kept.report.issues[0].code, "W112") << kept.report.issues[0].message;
+  for (const InputIssue& i : kept.report.issues) EXPECT_NE(i.code, "W104") << i.message;
+  const PreparedMesh welded = prepare(m, {.repair = true});
+  EXPECT_EQ(welded.components.size(), 1u);
+  EXPECT_EQ(loops(welded), 1u);
+  EXPECT_GT(welded.report.welded_vertices, 0u);
+}
+
+// Two holes touching at a point, the point a vertex of each cell beside it (coincident copies):
+// the hole count stays as it came, the copies stay apart, and that is said (W112).
+TEST(Prepare, HolesTouchingAtCoincidentVerticesKeepTheirCount) {
+  const PolyMesh grid = test::grid_plate(4, 4);
+  PolyMesh m;
+  m.positions = grid.positions;
+  const uint32_t p = 2 * 5 + 2;  // (0.5, 0.5), where the holes touch
+  m.positions.push_back(grid.positions[p]);
+  const uint32_t copy = uint32_t(m.positions.size() - 1);
+  for (std::size_t f = 0; f < grid.num_faces(); ++f) {
+    const uint32_t cell = uint32_t(f / 2), i = cell % 4, j = cell / 4;
+    if ((i == 1 && j == 1) || (i == 2 && j == 2)) continue;  // the two holes
+    std::vector<uint32_t> vs(grid.face(f).begin(), grid.face(f).end());
+    if (i == 2 && j == 1)
+      for (uint32_t& v : vs)
+        if (v == p) v = copy;
+    m.add_face(vs);
+  }
+  const PreparedMesh kept = prepare(m);
+  ASSERT_EQ(kept.components.size(), 1u);
+  EXPECT_EQ(kept.report.components[0].boundary_loops, 2u);  // the outer one and the holes'
+  EXPECT_EQ(kept.report.welded_vertices, 0u);
+  EXPECT_EQ(kept.report.split_vertices, 0u);
+  ASSERT_EQ(kept.report.issues.size(), 1u);
+  EXPECT_EQ(kept.report.issues[0].code, "W112");
 }
 
 TEST(Prepare, OrientationIsMadeConsistentAndOutward) {
