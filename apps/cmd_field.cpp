@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "field/cross_field.hpp"
+#include "field/trace.hpp"
 #include "io/read_mesh.hpp"
 #include "io/write_mesh.hpp"
 #include "pipeline/sizing.hpp"
@@ -37,6 +38,7 @@ struct ComponentField {
   RefinedMesh refined;
   EdgeData<char> feature;
   CrossField field;
+  TraceResult traces;
   double h = 0;
 };
 
@@ -83,6 +85,12 @@ void draw_field(const std::vector<ComponentField>& fields, const std::string& pn
         canvas.line(mid - d, mid + d, k == 0 ? Rgb{0.1, 0.35, 0.75} : Rgb{0.2, 0.6, 0.3}, 1.3);
       }
     }
+    for (const Trace& t : c.traces.traces)
+      for (std::size_t k = 0; k + 1 < t.points.size(); ++k)
+        canvas.line(position_on(m, t.points[k]), position_on(m, t.points[k + 1]),
+                    t.end == TraceEnd::cap || t.end == TraceEnd::sink ? Rgb{0.95, 0.5, 0.0}
+                                                                      : Rgb{0.75, 0.1, 0.45},
+                    2.0);
     for (uint32_t v : c.field.singular) {
       const int32_t i = c.field.index4[v];
       const Rgb col =
@@ -96,9 +104,31 @@ void draw_field(const std::vector<ComponentField>& fields, const std::string& pn
       const int32_t i = c.field.index4[v];
       (i == 1 ? plus : i == -1 ? minus : other)++;
     }
-  canvas.caption(fmt::format("cross field: {} singularities +1/4 (blue), {} -1/4 (red), {} other",
-                             plus, minus, other));
+  std::size_t traces = 0;
+  for (const ComponentField& c : fields) traces += c.traces.traces.size();
+  canvas.caption(
+      fmt::format("cross field: {} singularities +1/4 (blue), {} -1/4 (red), {} other; "
+                  "{} traces",
+                  plus, minus, other, traces));
   canvas.save_png(png);
+}
+
+nlohmann::json trace_summary(const TraceResult& r, double seconds) {
+  std::map<std::string, uint32_t> ends;
+  for (const Trace& t : r.traces)
+    ++ends[t.end == TraceEnd::boundary  ? "boundary"
+           : t.end == TraceEnd::feature ? "feature"
+           : t.end == TraceEnd::track   ? "track"
+           : t.end == TraceEnd::cap     ? "cap"
+                                        : "sink"];
+  return {{"nodes", r.nodes.size()},
+          {"traces", r.traces.size()},
+          {"ends", ends},
+          {"ray_mismatches", r.ray_mismatches},
+          {"truncated", r.truncated},
+          {"straight_crossings", r.straight_crossings},
+          {"head_on", r.head_on},
+          {"seconds", seconds}};
 }
 
 nlohmann::json field_summary(const ComponentField& c, double seconds) {
@@ -161,7 +191,7 @@ Runner add_field(CLI::App& app) {
     for (uint32_t ci = 0; ci < prep.components.size(); ++ci) {
       const PreparedComponent& c = prep.components[ci];
       const auto t0 = std::chrono::steady_clock::now();
-      ComponentField cf{&c, {}, {}, {}, 0};
+      ComponentField cf{&c, {}, {}, {}, {}, 0};
       cf.h = component_size(prep, ci, {a->edge_length, a->quads}).edge_length;
       cf.feature = c.feature;
       cf.refined = split_constraint_conflicts(identity_refinement(c.mesh), cf.feature);
@@ -171,9 +201,12 @@ Runner add_field(CLI::App& app) {
       o.curvature = !a->no_curvature;
       o.min_feature_length = a->min_feature;
       cf.field = compute_cross_field(cf.refined.mesh, cf.feature, o);
-      const double seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      out.push_back(field_summary(cf, seconds));
+      const auto t1 = std::chrono::steady_clock::now();
+      cf.traces = trace_separatrices(cf.field, {.edge_length = cf.h});
+      const auto t2 = std::chrono::steady_clock::now();
+      out.push_back(field_summary(cf, std::chrono::duration<double>(t1 - t0).count()));
+      out.back()["tracing"] =
+          trace_summary(cf.traces, std::chrono::duration<double>(t2 - t1).count());
       fields.push_back(std::move(cf));
     }
     if (a->json) {
@@ -182,11 +215,13 @@ Runner add_field(CLI::App& app) {
       for (const auto& c : out)
         fmt::print(
             "component {}: {} faces, {} field, {} constrained faces, singularities {} "
-            "interior, {} on the boundary, {:.3f} s\n",
+            "interior, {} on the boundary, {:.3f} s; {} traces from {} nodes, ends {}, {:.3f} s\n",
             c["component"].get<uint32_t>(), c["faces"].get<uint32_t>(),
             c["variant"].get<std::string>(), c["constrained_faces"].get<uint32_t>(),
             c["interior_singularities"].dump(), c["boundary_singularities"].get<uint32_t>(),
-            c["seconds"].get<double>());
+            c["seconds"].get<double>(), c["tracing"]["traces"].get<std::size_t>(),
+            c["tracing"]["nodes"].get<std::size_t>(), c["tracing"]["ends"].dump(),
+            c["tracing"]["seconds"].get<double>());
     }
     if (!a->png.empty()) draw_field(fields, a->png);
     return 0;

@@ -17,7 +17,8 @@ namespace isoquad::cli {
 namespace {
 
 struct RemeshArgs {
-  std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global";
+  std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global",
+                                         segmentation = "vsa";
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
        split_patches = false, no_tip_split = false, no_refine = false, no_patch_rounds = false,
@@ -43,6 +44,11 @@ Runner add_remesh(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--relax", a->relax, "Seam weights: adaptive, bisection (the paper's), locked")
       ->check(CLI::IsMember({"adaptive", "bisection", "locked"}))
+      ->capture_default_str();
+  sub->add_option("--segmentation", a->segmentation,
+                  "Patches: vsa (the paper's planar regions) or field (cut along the streamlines "
+                  "of a cross field, corners included; VSA where it fails)")
+      ->check(CLI::IsMember({"vsa", "field"}))
       ->capture_default_str();
   sub->add_option("--corners", a->corners, "Corner choice: global or local (the paper's)")
       ->check(CLI::IsMember({"global", "local"}))
@@ -150,6 +156,7 @@ Runner add_remesh(CLI::App& app) {
     o.seed = a->patch.seed;
     o.paper_weights = a->weights == "mvc";
     o.relax = a->relax;
+    o.segmentation = a->segmentation;
     o.local_corners = a->corners == "local";
     o.feature_angle_deg = a->prep.feature_angle;
     o.repair = a->prep.repair;

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "field/field_segment.hpp"
 #include "io/read_mesh.hpp"
 #include "io/write_mesh.hpp"
 #include "pipeline/pipeline.hpp"
@@ -17,7 +18,7 @@ namespace isoquad::cli {
 
 namespace {
 struct SegmentArgs {
-  std::string mesh, output, png;
+  std::string mesh, output, png, segmentation = "vsa";
   PatchArgs patch;
   bool json = false;
   PrepArgs prep;
@@ -32,6 +33,10 @@ Runner add_segment(CLI::App& app) {
   sub->add_option("-o,--output", a->output, "Output PLY with per-face patch ids and colours");
   sub->add_option("--png", a->png, "Picture of the patches");
   add_patch_options(*sub, a->patch);
+  sub->add_option("--segmentation", a->segmentation,
+                  "vsa (the paper's planar regions) or field (along a cross field's streamlines)")
+      ->check(CLI::IsMember({"vsa", "field"}))
+      ->capture_default_str();
   sub->add_flag("--json", a->json, "Print a JSON summary");
   add_prep_options(*sub, a->prep);
   return [a] {
@@ -52,7 +57,22 @@ Runner add_segment(CLI::App& app) {
       const RefinedMesh surface =
           subdivide_coarse(c.mesh, c.feature, so.vsa.target_edge_length,
                            PipelineOptions{}.triangles_per_quad, feature, subdivisions);
-      SegmentResult seg = segment(surface.mesh, feature, so);
+      FieldLayoutLog field_log;
+      SegmentResult seg;
+      if (a->segmentation == "field") {
+        seg = field_segment(surface.mesh, feature, so.vsa.target_edge_length, field_log).seg;
+        if (!field_log.failure.empty())
+          fmt::print(stderr, "isoquad: component {}: the field layout failed: {}\n", c.report_index,
+                     field_log.failure);
+        if (seg.labels.size() != seg.refined.mesh.num_faces()) {
+          seg.refined = surface;
+          seg.feature = feature;
+          seg.labels = FaceData<uint32_t>(surface.mesh.num_faces(), 0);
+          seg.num_patches = 1;
+        }
+      } else {
+        seg = segment(surface.mesh, feature, so);
+      }
       const MetaMesh& mm = seg.meta;
       summary.push_back(
           {{"component", c.report_index},
@@ -77,7 +97,8 @@ Runner add_segment(CLI::App& app) {
              {"seam_length_before", seg.straighten.seam_length_before / prep.normalization.scale},
              {"seam_length_after", seg.straighten.seam_length_after / prep.normalization.scale}}},
            {"vsa_iterations", seg.energy_log.size()},
-           {"vsa_energy", seg.energy_log.back()}});
+           {"vsa_energy", seg.energy_log.empty() ? 0.0 : seg.energy_log.back()},
+           {"field_failure", field_log.failure}});
       if (!a->json)
         fmt::print(
             "component {}: {} patches ({} from VSA), {} meta-vertices ({} inserted), {} "

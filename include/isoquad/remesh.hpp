@@ -21,15 +21,19 @@ struct RemeshOptions {
   uint64_t seed = 1;
   bool paper_weights = false;      // Floater's mean value weights (default: symmetrized, SPD)
   std::string relax = "adaptive";  // adaptive, bisection or locked
-  bool local_corners = false;      // the paper's per-patch corner choice
-  bool improve_corners = true;     // refine corners against the relaxed length program
-  double feature_angle_deg = 60;   // dihedral angle above which edges are creases (0: none)
-  bool repair = false;             // detach non-manifold edges, drop degenerate faces
-  uint32_t smooth = 0;             // tangential smoothing iterations on the surface
-  bool untangle = true;            // move corners of quads folded against the surface
-  bool snap = true;                // move corners onto tips the quads cut off (extract/snap.hpp)
-  uint32_t fold_rounds = 2;        // more quads across patches still folded, re-solved this often
-  bool split_patches = false;      // every patch four-sided first (the paper's §5 repair)
+  // How the surface is cut into patches: "vsa" (the paper's planar regions) or "field" (along
+  // the streamlines of a smooth cross field; a component whose field layout fails falls back to
+  // VSA, and the report says why).
+  std::string segmentation = "vsa";
+  bool local_corners = false;     // the paper's per-patch corner choice
+  bool improve_corners = true;    // refine corners against the relaxed length program
+  double feature_angle_deg = 60;  // dihedral angle above which edges are creases (0: none)
+  bool repair = false;            // detach non-manifold edges, drop degenerate faces
+  uint32_t smooth = 0;            // tangential smoothing iterations on the surface
+  bool untangle = true;           // move corners of quads folded against the surface
+  bool snap = true;               // move corners onto tips the quads cut off (extract/snap.hpp)
+  uint32_t fold_rounds = 2;       // more quads across patches still folded, re-solved this often
+  bool split_patches = false;     // every patch four-sided first (the paper's §5 repair)
   // Where the quads are farther than 1% of the diagonal (or `tolerance`) from the surface, make
   // the surface vertices where they cut off a tip or bridge a valley patch corners and run
   // again; keep the closer run with no more folded quads.

@@ -127,6 +127,16 @@ uint32_t TriMesh::valence(uint32_t v) const {
   return n + (is_boundary_vertex(v) ? 1 : 0);
 }
 
+TriMesh TriMesh::with_positions(std::vector<Vec3> positions) const {
+  if (positions.size() != positions_.size())
+    throw Error(
+        ErrorKind::internal, "E700",
+        fmt::format("{} positions for a mesh of {} vertices", positions.size(), positions_.size()));
+  TriMesh m = *this;
+  m.positions_ = std::move(positions);
+  return m;
+}
+
 Vec3 TriMesh::face_normal(uint32_t f) const {
   const Tri& t = faces_[f];
   return normalized(

@@ -21,6 +21,10 @@ class TriMesh {
   //      directions), every vertex has at least one face and a single fan, indices in range.
   // \throw Error(invalid_input, E100) naming the offending vertices or faces otherwise.
   TriMesh(std::vector<Vec3> positions, std::vector<Tri> faces);
+  // The same connectivity (vertex, face, halfedge and edge ids) at other positions, without
+  // rebuilding it (a smoothed copy). \pre positions.size() == num_vertices().
+  // \throw Error(internal, E700) if the count differs.
+  TriMesh with_positions(std::vector<Vec3> positions) const;
 
   uint32_t num_vertices() const { return static_cast<uint32_t>(positions_.size()); }
   uint32_t num_faces() const { return static_cast<uint32_t>(faces_.size()); }

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <tbb/parallel_for.h>
+
 namespace isoquad {
 
 double wrap_angle(double a, double period) {
@@ -16,19 +18,14 @@ Vec3 FaceFrames::direction(uint32_t f, double t) const {
   return std::cos(t) * x[f] + std::sin(t) * y[f];
 }
 
-double corner_angle(const TriMesh& mesh, uint32_t f, uint32_t i) {
-  const Tri& t = mesh.face(f);
-  const Vec3 p = mesh.position(t[i]);
-  return angle_between(mesh.position(t[(i + 1) % 3]) - p, mesh.position(t[(i + 2) % 3]) - p);
-}
-
 FaceFrames face_frames(const TriMesh& mesh) {
   const uint32_t nf = mesh.num_faces();
   FaceFrames fr;
   fr.x = FaceData<Vec3>(nf);
   fr.y = FaceData<Vec3>(nf);
   fr.normal = FaceData<Vec3>(nf);
-  for (uint32_t f = 0; f < nf; ++f) {
+  // Per face and per edge in parallel: each iteration writes its own entries.
+  tbb::parallel_for(uint32_t(0), nf, [&](uint32_t f) {
     const Tri& t = mesh.face(f);
     const Vec3 e[3] = {mesh.position(t[1]) - mesh.position(t[0]),
                        mesh.position(t[2]) - mesh.position(t[1]),
@@ -48,16 +45,16 @@ FaceFrames face_frames(const TriMesh& mesh) {
     fr.x[f] = x;
     fr.normal[f] = n;
     fr.y[f] = cross(n, x);
-  }
+  });
   fr.rho = HalfedgeData<double>(mesh.num_halfedges(), 0.0);
-  for (uint32_t h = 0; h < mesh.num_halfedges(); ++h) {
+  tbb::parallel_for(uint32_t(0), mesh.num_halfedges(), [&](uint32_t h) {
     const uint32_t tw = mesh.twin(h);
-    if (tw == kInvalid || tw < h) continue;  // each edge once: the twin gets exactly -rho
+    if (tw == kInvalid || tw < h) return;  // each edge once: the twin gets exactly -rho
     const Vec3 d = mesh.position(mesh.to(h)) - mesh.position(mesh.from(h));
     const uint32_t f = TriMesh::face_of(h), g = TriMesh::face_of(tw);
     fr.rho[h] = wrap_angle(fr.arg(g, d) - fr.arg(f, d), 2 * std::numbers::pi);
     fr.rho[tw] = -fr.rho[h];
-  }
+  });
   return fr;
 }
 

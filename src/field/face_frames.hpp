@@ -24,9 +24,6 @@ struct FaceFrames {
 // normal perpendicular to it, so that every frame is orthonormal.
 FaceFrames face_frames(const TriMesh& mesh);
 
-// The interior angle of face f at its corner i.
-double corner_angle(const TriMesh& mesh, uint32_t f, uint32_t i);
-
 // Wraps an angle to (-period/2, period/2].
 double wrap_angle(double a, double period);
 

@@ -99,6 +99,18 @@ bool greedy_feasible(const MetaMesh& meta, const std::vector<std::vector<CornerC
 std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels,
                                          const MetaMesh& meta, const LayoutOptions& o, double unit,
                                          LayoutReport& report, std::vector<uint32_t>& zero) {
+  if (o.given_corners) {
+    Feasible f;
+    f.corners.corners = *o.given_corners;
+    f.corners.chosen.assign(meta.faces.size(), 0);
+    f.corners.quarter_turns = quarter_turns(meta, f.corners.corners);
+    f.sides = item_sides(meta, f.corners.corners);
+    f.rows = side_equations(meta, f.sides);
+    const Feasibility test = check_feasibility(uint32_t(meta.edges.size()), f.rows);
+    report.corner_seconds += test.seconds;
+    if (!test.feasible) return std::nullopt;  // no insertion either: it would renumber the cycles
+    return f;
+  }
   for (const uint32_t keep :
        {o.candidates_per_patch, o.candidates_per_patch, 4 * o.candidates_per_patch}) {
     const bool exact = report.corner_rounds > 0;
@@ -490,7 +502,7 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
     throw Error(ErrorKind::layout, "E402",
                 "no corner assignment or meta-vertex insertion makes the integer lengths feasible");
 
-  if (o.improve_corners) {
+  if (o.improve_corners && !o.given_corners) {
     std::vector<double> targets(meta.edges.size());
     for (uint32_t e = 0; e < targets.size(); ++e) targets[e] = meta.edges[e].geodesic / h;
     improve_corners(mesh, labels, meta, o, h, targets, *f, report);

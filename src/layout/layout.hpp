@@ -4,6 +4,7 @@
 // by k quarter turns and an integer jump) from its left chart to its right chart.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -79,6 +80,10 @@ struct LayoutOptions {
   // 0.93 -> 1.28%). At 1.5 or 2 with one meta-edge's weight it had cost folds (9 -> 12).
   double area_dimension_threshold = 2;
   double time_limit = 10;  // seconds per ILP
+  // Per patch, its corners as MetaFace::cycle indices (increasing), taken as they are: no
+  // candidates, no corner ILP, no refinement (the field-aligned layout knows them). If they do
+  // not admit positive lengths, the layout fails with E402.
+  const std::vector<std::array<uint32_t, 4>>* given_corners = nullptr;
 };
 
 struct LayoutReport {

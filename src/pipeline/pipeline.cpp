@@ -190,6 +190,17 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
                        surface.num_vertices() >= kNestedDissectionVertices;
   tbb::parallel_invoke(
       [&] {
+        run.field_used = false;
+        if (o.field_layout && tips.empty() && !vsa) {
+          run.field_log = {};
+          FieldSegmentation fs = field_segment(surface, run.surface_feature, h, run.field_log);
+          if (run.field_log.failure.empty()) {
+            run.seg = std::move(fs.seg);
+            run.field_corners = std::move(fs.corners);
+            run.field_used = true;
+            return;
+          }
+        }
         SegmentOptions so = SegmentOptions::sized(h, o.patches, o.seed);
         so.tips = tips;
         so.vsa_labels = vsa;
@@ -216,6 +227,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   };
   auto layout = [&] {
     run.layout_report = {};
+    lo.given_corners = run.field_used && !run.quad_split ? &run.field_corners : nullptr;
     run.layout = solve_layout(run.seg.refined.mesh, run.seg.labels, run.seg.feature, run.seg.meta,
                               lo, run.layout_report);
   };
@@ -224,13 +236,28 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   std::optional<MetaMesh> segmented;
   if (o.untangle && o.corner_retry_penalty > 0 && o.last != Stage::layout) segmented = run.seg.meta;
   if (o.quad_split) split();
-  try {
-    layout();
-  } catch (const Error& e) {
-    // The paper's repair (§5), which always succeeds, once nothing cheaper did.
-    if (e.code() != "E402" || run.quad_split) throw;
-    split();
-    layout();
+  if (run.field_used) {
+    try {
+      layout();
+    } catch (const Error& e) {
+      // The traced corners admit no lengths: this component takes VSA's patches instead.
+      if (e.kind() != ErrorKind::layout) throw;
+      run.field_log.failure = fmt::format("the layout of the traced patches failed: {}", e.what());
+      run.field_used = false;
+      SegmentOptions so = SegmentOptions::sized(h, o.patches, o.seed);
+      run.seg = segment(surface, run.surface_feature, so);
+      if (segmented) segmented = run.seg.meta;
+    }
+  }
+  if (!run.field_used) {
+    try {
+      layout();
+    } catch (const Error& e) {
+      // The paper's repair (§5), which always succeeds, once nothing cheaper did.
+      if (e.code() != "E402" || run.quad_split) throw;
+      split();
+      layout();
+    }
   }
   if (run.quad_split)
     run.layout_report.repairs.push_back(

@@ -13,6 +13,7 @@
 #include "extract/smooth.hpp"
 #include "extract/snap.hpp"
 #include "extract/untangle.hpp"
+#include "field/field_segment.hpp"
 #include "layout/layout.hpp"
 #include "param/param.hpp"
 #include "prep/prepare.hpp"
@@ -24,6 +25,9 @@ namespace isoquad {
 enum class Stage { segment, layout, param, extract };
 
 struct PipelineOptions {
+  // Patches from the cross field's traced separatrices (field/field_segment.hpp) instead of VSA;
+  // a component whose field layout fails falls back to VSA.
+  bool field_layout = false;
   uint32_t patches = 0;    // K; 0: automatic
   double edge_length = 0;  // target quad edge length in input units; 0: from quads
   double quads = 0;        // target quad count for the whole mesh; 0: the default
@@ -207,6 +211,11 @@ struct ComponentRun {
   // The kept quads' distance and folds, where refine_far or the patch rounds measured them.
   std::optional<SizeRound> measured;
   SegmentResult seg;
+  // The field-aligned layout: whether `seg` is it (false: VSA, asked for or fallen back to), its
+  // patches' corners, and what it found or why it failed.
+  bool field_used = false;
+  std::vector<std::array<uint32_t, 4>> field_corners;
+  FieldLayoutLog field_log;
   std::optional<QuadSplitReport> quad_split;  // when the patches were split into quads
   Layout layout;
   LayoutReport layout_report;

@@ -28,6 +28,7 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"seed", o.seed},
           {"weights", o.paper_weights ? "mvc" : "smvc"},
           {"relax", o.relax},
+          {"segmentation", o.segmentation},
           {"corners", o.local_corners ? "local" : "global"},
           {"improve_corners", o.improve_corners},
           {"feature_angle", o.feature_angle_deg},
@@ -61,6 +62,8 @@ void check_options(const RemeshOptions& o) {
     refuse(fmt::format("feature angle {} is not in [0, 180] degrees", o.feature_angle_deg));
   if (o.relax != "adaptive" && o.relax != "bisection" && o.relax != "locked")
     refuse(fmt::format("unknown relaxation '{}' (adaptive, bisection or locked)", o.relax));
+  if (o.segmentation != "vsa" && o.segmentation != "field")
+    refuse(fmt::format("unknown segmentation '{}' (field or vsa)", o.segmentation));
   if (!(o.tolerance >= 0 && o.tolerance <= 1))
     refuse(fmt::format("tolerance {} is not a fraction of the diagonal in [0, 1]", o.tolerance));
   if (o.tolerance > 0 && (o.quads > 0 || o.edge_length > 0))
@@ -122,6 +125,13 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.refine = opt.refine;
   o.patch_rounds = opt.patch_rounds;
   o.misfit_split = opt.misfit_split;
+  if (opt.segmentation == "field") {
+    // The field gives the corners; the repairs that re-segment (tips, patch counts, misfit
+    // regions) or re-choose corners are VSA's.
+    o.field_layout = true;
+    o.tip_split = o.patch_rounds = o.misfit_split = false;
+    o.corner_retry_penalty = 0;
+  }
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;
@@ -305,6 +315,18 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"farthest_before", r.snap_report.farthest_before},
                        {"farthest_after", r.snap_report.farthest_after},
                        {"seconds", r.snap_report.seconds}}},
+                     {"layout_source", r.field_used ? "field" : "vsa"},
+                     {"field",
+                      {{"fallback_reason", r.field_log.failure},
+                       {"singularities", r.field_log.singularities},
+                       {"nodes", r.field_log.nodes},
+                       {"traces", r.field_log.traces},
+                       {"t_junctions", r.field_log.t_junctions},
+                       {"patches", r.field_log.patches},
+                       {"seconds",
+                        {{"field", r.field_log.field_seconds},
+                         {"trace", r.field_log.trace_seconds},
+                         {"embed", r.field_log.embed_seconds}}}}},
                      {"fell_back_to_locked", r.param_report.fell_back_to_locked},
                      {"lattice_points",
                       {{"direct", r.extract_report.direct},

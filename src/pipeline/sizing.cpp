@@ -16,7 +16,9 @@ double edge_length_for_quads(const TriMesh& mesh, double quads) {
 }
 
 double default_quad_count(std::size_t triangles) {
-  return std::clamp(double(triangles) / 8.0, 1000.0, 20000.0);
+  double t = double(triangles);
+  while (t > 0 && t < 8000) t *= 4;  // as if split 1-to-4 until there are 8,000 (subdivide_coarse)
+  return std::clamp(t / 8.0, 1000.0, 20000.0);
 }
 
 ComponentSize component_size(const PreparedMesh& prep, uint32_t c, const SizeRequest& r) {

@@ -13,8 +13,11 @@ double surface_area(const TriMesh& mesh);
 // h such that the surface holds about `quads` squares of side h: sqrt(area / quads).
 double edge_length_for_quads(const TriMesh& mesh, double quads);
 
-// The quad count used when neither a count nor an edge length is given: one quad per 8 input
-// triangles, clamped to [1000, 20000].
+// The quad count used when neither a count nor an edge length is given: one quad per 8
+// triangles, clamped to [1000, 20000], where an input under 8,000 triangles counts as if split
+// 1-to-4 until it has 8,000 (as subdivide_coarse refines it: 1,000 to 4,000 quads). This is the
+// count single meshes got when the layout re-took the default on the subdivided surface (the cow
+// 3,119 quads, not 1,000, at which it folds); now it is one budget for all the components.
 double default_quad_count(std::size_t triangles);
 
 // A component with fewer faces than four patches of three faces each (the smallest patch the

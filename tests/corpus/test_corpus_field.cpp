@@ -5,13 +5,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <numbers>
 
 #include "corpus.hpp"
 #include "field/cross_field.hpp"
 #include "io/read_mesh.hpp"
+#include "metrics/quality.hpp"
+#include "pipeline/remesh.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
+#include "seg/patch_topology.hpp"
 
 using namespace isoquad;
 
@@ -50,8 +54,7 @@ TEST_P(CorpusField, AlignedToFeaturesWithQuarterSingularities) {
     sum += cf.index4[v];
     if (on_feature[v]) continue;
     double defect = 2 * std::numbers::pi;
-    cf.surface.for_each_outgoing(
-        v, [&](uint32_t h) { defect -= corner_angle(cf.surface, TriMesh::face_of(h), h % 3); });
+    cf.surface.for_each_outgoing(v, [&](uint32_t h) { defect -= corner_angle(cf.surface, h); });
     EXPECT_LE(std::abs(cf.index4[v] - std::lround(defect / (std::numbers::pi / 2))), 2)
         << "vertex " << v << ", angle defect " << defect;
   }
@@ -98,4 +101,68 @@ TEST(CorpusFieldTotal, FewerSingularitiesThanTheIrregularVerticesAllowed) {
   // at most 457 irregular vertices in the end (60% of the VSA layout's 762), which the pair
   // cancellation and the layout's simplification are to reach.
   EXPECT_LE(total, 700u);
+}
+
+namespace {
+
+struct LaidOut {
+  RemeshRun run;
+  QualityReport quality;
+};
+
+LaidOut remesh_with(const ReadResult& input, const std::string& segmentation) {
+  RemeshOptions o;
+  o.quads = 1500;
+  o.segmentation = segmentation;
+  LaidOut out{remesh_run(input.mesh, o, input.unshared_vertices), {}};
+  out.quality = measure_quality(out.run.result.quads, &input.mesh);
+  // Whatever made the patches, the output is valid.
+  EXPECT_TRUE(out.quality.pure_quad);
+  EXPECT_TRUE(out.quality.edge_manifold);
+  EXPECT_TRUE(out.quality.vertex_manifold);
+  EXPECT_TRUE(out.quality.same_topology);
+  EXPECT_EQ(out.quality.sj_surface_nonpositive, 0u);
+  EXPECT_NEAR(double(out.run.result.quads.num_faces()), 1500, 150);
+  return out;
+}
+
+}  // namespace
+
+// The cylinder (open, its two rims creases of the field): one traced patch, its corners where the
+// rims' seam meets them. The field's quads follow the rulings where VSA's patches bend them.
+TEST(CorpusFieldLayout, CylinderIsLaidOutAlongItsRulings) {
+  ISOQUAD_CORPUS_MESH(path, "cylinder.off");
+  const ReadResult input = read_mesh(path);
+  const LaidOut field = remesh_with(input, "field");
+  ASSERT_EQ(field.run.runs.size(), 1u);
+  const ComponentRun& r = field.run.runs[0];
+  EXPECT_TRUE(r.field_used) << r.field_log.failure;
+  EXPECT_TRUE(r.field_log.failure.empty());
+  EXPECT_EQ(r.field_corners.size(), r.seg.num_patches);
+  EXPECT_EQ(field.quality.irregular, 0u);
+  const LaidOut vsa = remesh_with(input, "vsa");
+  EXPECT_FALSE(vsa.run.runs[0].field_used);
+  EXPECT_LT(field.quality.angle_deviation_max, 1.0);
+  EXPECT_LT(field.quality.angle_deviation_max, vsa.quality.angle_deviation_max);
+  EXPECT_LE(field.quality.edge_cv, vsa.quality.edge_cv);
+  // The report says which segmentation made the quads.
+  const auto report = nlohmann::json::parse(field.run.result.report);
+  EXPECT_EQ(report["components"][0]["layout_source"], "field");
+  EXPECT_EQ(report["options"]["segmentation"], "field");
+}
+
+// Where the traced patches cannot be laid out (here the sphere: two traces of one separatrix pass
+// a triangle apart and leave a sliver patch), the component takes VSA's patches, and the report
+// says why.
+TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
+  ISOQUAD_CORPUS_MESH(path, "sphere.off");
+  const ReadResult input = read_mesh(path);
+  const LaidOut field = remesh_with(input, "field");
+  const ComponentRun& r = field.run.runs[0];
+  EXPECT_FALSE(r.field_used);
+  EXPECT_FALSE(r.field_log.failure.empty());
+  EXPECT_EQ(r.field_log.singularities, 8u);
+  const auto report = nlohmann::json::parse(field.run.result.report);
+  EXPECT_EQ(report["components"][0]["layout_source"], "vsa");
+  EXPECT_EQ(report["components"][0]["field"]["fallback_reason"], r.field_log.failure);
 }

@@ -298,6 +298,28 @@ TEST(Cli, UnknownSubcommandAndOptionAreNamedWithASuggestion) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+TEST(Cli, SegmentationModeIsCheckedAndReported) {
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_segmentation.obj";
+  const CliRun bad = run("remesh " + sphere + " -o " + out.string() + " --segmentation voronoi");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // The field mode runs; on the sphere its traced patches fall back to VSA, and the JSON says so.
+  const CliRun r =
+      run("remesh " + sphere + " -o " + out.string() + " --quads 600 --segmentation field --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["options"]["segmentation"], "field");
+  const auto& c = doc["components"][0];
+  EXPECT_TRUE(c["layout_source"] == "field" ||
+              !c["field"]["fallback_reason"].get<std::string>().empty());
+  EXPECT_EQ(c["field"]["singularities"], 8);
+  std::filesystem::remove(out);
+  const CliRun seg = run("segment " + sphere + " --quads 600 --segmentation field --json");
+  ASSERT_EQ(seg.status, 0) << seg.err;
+  EXPECT_GT(nlohmann::json::parse(seg.out)[0]["patches"].get<int>(), 1);
+}
+
 TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto ply = dir / "isoquad_cli_patches.ply", png = dir / "isoquad_cli_patches.png";

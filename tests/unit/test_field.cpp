@@ -6,6 +6,7 @@
 
 #include "field/cross_field.hpp"
 #include "field/feature_curves.hpp"
+#include "field/trace.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
 #include "shapes.hpp"
@@ -210,4 +211,85 @@ TEST(FeatureCurves, ClosedRingIsOneClosedCurve) {
   EXPECT_EQ(curves[0].halfedges.size(), 24u);
   for (std::size_t i = 0; i < 24; ++i)
     EXPECT_EQ(c.mesh.to(curves[0].halfedges[i]), c.mesh.from(curves[0].halfedges[(i + 1) % 24]));
+}
+
+namespace {
+
+// A 12 x 12 grid without the cells whose (i, j) `drop` says.
+template <class Drop>
+PolyMesh grid_without(Drop drop) {
+  PolyMesh m;
+  const PolyMesh grid = test::grid_plate(12, 12);
+  m.positions = grid.positions;
+  for (std::size_t f = 0; f < grid.num_faces(); f += 2) {
+    const uint32_t cell = uint32_t(f / 2), i = cell % 12, j = cell / 12;
+    if (drop(i, j)) continue;
+    m.add_face(grid.face(f));
+    m.add_face(grid.face(f + 1));
+  }
+  return m;
+}
+
+TraceResult traces_of(const CrossField& cf, double h) {
+  TraceOptions o;
+  o.edge_length = h;
+  return trace_separatrices(cf, o);
+}
+
+}  // namespace
+
+TEST(Trace, SquareNeedsNoTrace) {
+  const PreparedComponent c = prepared(test::grid_plate(12, 12));
+  const CrossField cf = field_of(c);
+  EXPECT_TRUE(traces_of(cf, 0.1).traces.empty());
+}
+
+TEST(Trace, LPlateConcaveCornerCutsItIntoThree) {
+  const PreparedComponent c =
+      prepared(grid_without([](uint32_t i, uint32_t j) { return i >= 6 && j >= 6; }));
+  const CrossField cf = field_of(c);
+  const TraceResult r = traces_of(cf, 0.1);
+  ASSERT_EQ(r.nodes.size(), 1u);  // the concave corner; the five convex ones emit nothing
+  ASSERT_EQ(r.traces.size(), 2u);
+  for (const Trace& t : r.traces) {
+    EXPECT_EQ(t.end, TraceEnd::boundary);
+    // Each runs straight along a grid line, from the corner to the opposite side (within 1e-9
+    // of an edge's length: a trace along mesh edges passes beside the vertices, which the
+    // embedding snaps).
+    const Vec3 a = position_on(c.mesh, t.points.front()), b = position_on(c.mesh, t.points.back());
+    const Vec3 d = b - a;
+    EXPECT_NEAR(std::min(std::abs(d.x), std::abs(d.y)), 0, 1e-9);
+    for (const SurfacePoint& p : t.points) {
+      const Vec3 q = position_on(c.mesh, p);
+      EXPECT_NEAR(std::abs(d.x) < std::abs(d.y) ? q.x - a.x : q.y - a.y, 0, 1e-9);
+    }
+    EXPECT_NEAR(t.length, norm(d), 1e-9);
+  }
+}
+
+TEST(Trace, SphereSeparatricesAllEndOnTracks) {
+  const PreparedComponent c = prepared(test::icosphere(4));
+  const CrossField cf = field_of(c);
+  ASSERT_EQ(cf.singular.size(), 8u);
+  const TraceResult r = traces_of(cf, edge_length_for_quads(c.mesh, 200));
+  EXPECT_EQ(r.ray_mismatches, 0u);
+  EXPECT_EQ(r.traces.size(), 24u);  // three per +1/4 singularity
+  for (const Trace& t : r.traces) {
+    EXPECT_EQ(t.end, TraceEnd::track);
+    EXPECT_NE(t.end_trace, kInvalid);
+    EXPECT_EQ(t.points.size(), t.faces.size() + 1);
+  }
+  // The same input gives the same traces.
+  const TraceResult again = traces_of(cf, edge_length_for_quads(c.mesh, 200));
+  ASSERT_EQ(again.traces.size(), r.traces.size());
+  for (std::size_t i = 0; i < r.traces.size(); ++i) {
+    EXPECT_EQ(again.traces[i].faces, r.traces[i].faces);
+    EXPECT_EQ(again.traces[i].length, r.traces[i].length);
+  }
+}
+
+TEST(Trace, TorusHasNoNodes) {
+  const PreparedComponent c = prepared(test::torus(48, 16));
+  const CrossField cf = field_of(c);
+  EXPECT_TRUE(traces_of(cf, 0.1).nodes.empty());
 }

@@ -74,6 +74,24 @@ TEST(TriMesh, PlateBoundaryLoop) {
   expect_consistent_connectivity(m);
 }
 
+TEST(TriMesh, WithPositionsKeepsTheConnectivity) {
+  const TriMesh m = to_tri_mesh(test::grid_plate(5, 3));
+  std::vector<Vec3> moved = m.positions();
+  for (Vec3& p : moved) p = 2.0 * p + Vec3{0, 0, p.x * p.y};
+  const TriMesh w = m.with_positions(moved);
+  EXPECT_EQ(w.positions(), moved);
+  EXPECT_EQ(w.faces(), m.faces());
+  const TriMesh rebuilt(moved, m.faces());
+  for (uint32_t h = 0; h < m.num_halfedges(); ++h) {
+    EXPECT_EQ(w.twin(h), rebuilt.twin(h));
+    EXPECT_EQ(w.edge(h), rebuilt.edge(h));
+  }
+  EXPECT_EQ(w.boundary_loops(), rebuilt.boundary_loops());
+  expect_consistent_connectivity(w);
+  moved.pop_back();
+  EXPECT_THROW((void)m.with_positions(moved), Error);
+}
+
 TEST(TriMesh, CylinderHasTwoLoopsAndComponentsAreSeparate) {
   PolyMesh two = test::open_cylinder(16, 4);
   const PolyMesh sphere = test::icosphere(1);

@@ -1,0 +1,40 @@
+// The field-aligned segmentation (FIELD_LAYOUT.md §4, §6): the cross field's separatrices,
+// traced as a motorcycle graph, are embedded in the mesh by splitting the faces they cross; the
+// faces between traces, features and the boundary are the patches, and the meta-vertices where a
+// patch turns by a quarter are its corners. The result is a SegmentResult like VSA's, with the
+// corners given, for layout/ to take as they are.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "field/cross_field.hpp"
+#include "field/trace.hpp"
+#include "seg/segment.hpp"
+
+namespace isoquad {
+
+struct FieldLayoutLog {
+  uint32_t singularities = 0;      // singular vertices of the field
+  uint32_t nodes = 0, traces = 0;  // emitters and their traces
+  uint32_t t_junctions = 0;        // traces ending on another trace
+  uint32_t patches = 0;
+  double field_seconds = 0, trace_seconds = 0, embed_seconds = 0;
+  std::string failure;  // why the layout cannot be used (empty: it can)
+};
+
+struct FieldSegmentation {
+  SegmentResult seg;
+  // Per patch, the cycle items (MetaFace::cycle indices, increasing) that are its corners.
+  std::vector<std::array<uint32_t, 4>> corners;
+};
+
+// The field-aligned patches of `mesh` for a target quad edge h (mesh units). Where a trace finds
+// no end, a patch is not a disk or does not have exactly four corners, log.failure says why and
+// the result holds what was built up to there (for pictures): the caller falls back to VSA.
+FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& feature, double h,
+                                FieldLayoutLog& log);
+
+}  // namespace isoquad

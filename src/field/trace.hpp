@@ -1,0 +1,67 @@
+// Separatrices of a cross field, traced over the surface as a motorcycle graph (FIELD_LAYOUT.md
+// §3; Eppstein et al. 2008, Myles et al. 2014): from every singular vertex and every node of the
+// features and the boundary, each ray of the field starts a trace that runs along its direction
+// family (matched across edges by the period jumps) until it reaches a feature, the boundary or
+// another trace. All traces advance together by arc length, so where two meet, the later one
+// stops (a T-junction) and the crossing graph is canonical.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/refined_mesh.hpp"
+#include "field/cross_field.hpp"
+
+namespace isoquad {
+
+struct TraceOptions {
+  double edge_length = 0;  // h (mesh units); a trace is capped at min(200 h, 4 sqrt(area))
+};
+
+enum class TraceEnd {
+  boundary,  // on a boundary edge
+  feature,   // on a feature edge the field is aligned to
+  track,     // on another trace (or itself): a T-junction
+  cap,       // longer than the cap: a limit cycle or a spiral
+  sink,      // the field turns back at an edge, and so does the trace's own direction
+};
+
+struct Trace {
+  uint32_t source = kInvalid;  // the vertex it starts from
+  uint32_t first_face = kInvalid;
+  int first_arm = 0;  // the field's arm 0..3 it starts along, in first_face
+  // The polyline: the source vertex, one point per edge crossed, then the end point. points[i]
+  // and points[i + 1] lie in faces[i].
+  std::vector<SurfacePoint> points;
+  // Per point, the edge it lies on and its fraction from the start of the edge's halfedge
+  // (EdgePoint, refined_mesh.hpp); edge kInvalid for the source vertex and for an end inside a
+  // face (on another trace).
+  std::vector<EdgePoint> on_edge;
+  std::vector<uint32_t> faces;
+  TraceEnd end = TraceEnd::cap;
+  uint32_t end_trace = kInvalid;  // the trace it stopped on (TraceEnd::track)
+  double length = 0;              // on the field's surface
+};
+
+struct TraceResult {
+  std::vector<Trace> traces;
+  std::vector<uint32_t> nodes;  // vertices that emitted traces
+  // Singular vertices whose rays found in their one-ring do not number 4 - 4I (a ray hidden in a
+  // period jump, or counted twice along an edge).
+  uint32_t ray_mismatches = 0;
+  uint32_t truncated = 0;           // traces cut back where a later arrival had crossed them first
+  uint32_t straight_crossings = 0;  // faces crossed straight on past a sink edge
+  uint32_t head_on = 0;             // separatrices traced from both ends, joined where they met
+};
+
+// The rays every node emits and their traces. Nodes: singular interior vertices (4 - 4I rays),
+// and vertices on feature or boundary edges where the constraint curve ends, branches or turns
+// by more than 45 degrees, or where the field is singular on the boundary (the rays strictly
+// inside the sectors between the constraint edges).
+TraceResult trace_separatrices(const CrossField& field, const TraceOptions& options);
+
+// A surface point's position on a mesh of the field's connectivity (the input, or the field's
+// smoothed surface).
+Vec3 position_on(const TriMesh& mesh, const SurfacePoint& p);
+
+}  // namespace isoquad
