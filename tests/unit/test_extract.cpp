@@ -637,18 +637,22 @@ TEST(Remesh, DefaultSizeIsOneBudgetSharedByTheComponents) {
           {base + sphere.face(f)[0], base + sphere.face(f)[1], base + sphere.face(f)[2]});
   }
   ASSERT_EQ(input.num_faces(), 1440u);
+  // 1,440 triangles count as 23,040 (split 1-to-4 twice to reach 8,000): 2,880 quads in all,
+  // 160 per sphere; each sphere alone would have asked for at least 1,000.
+  const double budget = default_quad_count(input.num_faces());
+  ASSERT_EQ(budget, 2880.0);
   const RemeshRun run = remesh_run(input, RemeshOptions{});
   ASSERT_EQ(run.runs.size(), 18u);
   for (const ComponentRun& r : run.runs) {
-    EXPECT_NEAR(r.quads_asked, 1000.0 / 18, 1e-6);
-    EXPECT_LT(r.quads.quads.size(), 2 * 1000 / 18);  // the rounds may double the quads at most
+    EXPECT_NEAR(r.quads_asked, budget / 18, 1e-6);
+    EXPECT_LT(r.quads.quads.size(), 2 * budget / 18);  // the rounds may double the quads at most
   }
   const QualityReport q = measure_quality(run.result.quads, &input);
   EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented);
   EXPECT_TRUE(q.same_topology);
   EXPECT_EQ(q.topology.components, 18u);
-  EXPECT_GT(run.result.quads.num_faces(), 500u);
-  EXPECT_LT(run.result.quads.num_faces(), 1200u);
+  EXPECT_GT(run.result.quads.num_faces(), 0.5 * budget);
+  EXPECT_LT(run.result.quads.num_faces(), 1.2 * budget);
 }
 
 // A component too small for patches is remeshed, not dropped: each triangle split into three
