@@ -29,8 +29,8 @@ struct CrossFieldOptions {
   // The field is solved on a copy of the surface smoothed at the scale of h (Ebke et al. 2014:
   // the field should not see detail finer than a quad, whose curvature only breeds +- pairs of
   // singularities): one implicit mean curvature flow step of time smoothing * h^2, feature and
-  // boundary vertices fixed. 0: off. Corpus at 1,500 quads, singular vertices: 381 unsmoothed,
-  // 316 at 0.3, 290 at 1.
+  // boundary vertices fixed. 0: off. Its effect on the corpus's singularities is in
+  // docs/field.md.
   double smoothing = 1;
   // Feature networks shorter than this many h in all neither constrain the field nor hold their
   // vertices while smoothing (long_features in feature_curves.hpp).
