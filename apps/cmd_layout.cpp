@@ -66,6 +66,7 @@ Runner add_layout(CLI::App& app) {
       lo.improve_corners = a->improve_corners;
       lo.edge_length = a->patch.edge_length > 0 ? h : 0;
       lo.quads = size.quads;
+      lo.default_share = size.area_share;
       LayoutReport report;
       const Layout layout =
           solve_layout(seg.refined.mesh, seg.labels, seg.feature, seg.meta, lo, report);

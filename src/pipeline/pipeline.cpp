@@ -218,7 +218,8 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
 
   LayoutOptions sized_layout = o.layout;
   sized_layout.edge_length = o.edge_length > 0 ? h : 0;
-  sized_layout.quads = run.quads_asked;
+  sized_layout.quads = o.edge_length > 0 ? 0 : (o.quads > 0 ? o.quads * run.area_share : 0);
+  sized_layout.default_share = run.area_share;
   LayoutOptions lo = sized_layout;
   t0 = Clock::now();
   auto split = [&] {
@@ -577,7 +578,6 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
     ComponentRun again;
     again.component = run.component;
     again.area_share = run.area_share;
-    again.quads_asked = run.quads_asked;
     again.surface = run.surface;
     again.surface_feature = run.surface_feature;
     again.subdivisions = run.subdivisions;
@@ -826,7 +826,6 @@ ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const Pipeline
   ComponentRun run;
   run.component = c;
   run.area_share = size.area_share;
-  run.quads_asked = size.quads;
   const double h = size.edge_length;
   const double diagonal = mesh_diagonal(prep);
   // A big patch with a long protrusion crowds its tip exponentially in any harmonic map; on a

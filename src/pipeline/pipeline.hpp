@@ -152,7 +152,6 @@ struct ComponentRun {
   // Too small for patches (sizing.hpp kTriangleSplitBelowFaces): the quads are its triangles split
   // in three, patch per triangle, and the stages' results are empty.
   bool triangle_split = false;
-  double quads_asked = 0;  // its share of the count asked for, or of the default; 0: an edge length
   // The surface the stages work on: the prepared component, subdivided `subdivisions` times,
   // with provenance in the component; its feature edges are the children of feature edges.
   RefinedMesh surface;

@@ -621,10 +621,13 @@ TEST(Remesh, ComponentsAreRemeshedApartAndMerged) {
   EXPECT_NEAR(shares, 1.0, 1e-12);
 }
 
-// The default size is one budget for the whole input (one quad per 8 triangles, 1,000 to
-// 20,000), shared by area: 18 small spheres of 80 triangles get about 1,000 quads together.
-// With a default per component, and the layout's own default on each subdivided surface, 1,368
-// triangles in 18 components asked for 43,745 quads and ran past two minutes.
+// The default size is one budget for the whole input, shared by area: h is that of one quad per
+// 8 triangles of the whole input (1,000 to 20,000), each component is split 1-to-4 until it has
+// 8 triangles per quad of that size, and its layout aims at a quad per 8 of those triangles
+// within its share of [1,000, 20,000]. 18 small spheres of 80 triangles (1,280 after two
+// splits) get about 160 quads each, 2,880 together; each alone would have asked for at least
+// 1,000. With a default per component, and the layout's own default on each subdivided
+// surface, 1,368 triangles in 18 components asked for 43,745 quads and ran past two minutes.
 TEST(Remesh, DefaultSizeIsOneBudgetSharedByTheComponents) {
   const PolyMesh sphere = test::icosphere(1);
   PolyMesh input;
@@ -637,14 +640,17 @@ TEST(Remesh, DefaultSizeIsOneBudgetSharedByTheComponents) {
           {base + sphere.face(f)[0], base + sphere.face(f)[1], base + sphere.face(f)[2]});
   }
   ASSERT_EQ(input.num_faces(), 1440u);
-  // 1,440 triangles count as 23,040 (split 1-to-4 twice to reach 8,000): 2,880 quads in all,
-  // 160 per sphere; each sphere alone would have asked for at least 1,000.
-  const double budget = default_quad_count(input.num_faces());
-  ASSERT_EQ(budget, 2880.0);
+  ASSERT_EQ(default_quad_count(input.num_faces()), 1000.0);  // the count h is taken from
+  const double budget = 18 * 80 * 16 / 8.0;                  // 2,880
   const RemeshRun run = remesh_run(input, RemeshOptions{});
   ASSERT_EQ(run.runs.size(), 18u);
   for (const ComponentRun& r : run.runs) {
-    EXPECT_NEAR(r.quads_asked, budget / 18, 1e-6);
+    EXPECT_NEAR(r.area_share, 1.0 / 18, 1e-9);
+    EXPECT_EQ(r.subdivisions, 2u);
+    // A quad per 8 triangles of the surface the layout works on (more where the patches' floor
+    // asks, layout.hpp kFloorMargin), not the 1,000 of the unshared default.
+    EXPECT_GE(r.layout.quads_aim, r.seg.refined.mesh.num_faces() / 8.0);
+    EXPECT_LT(r.layout.quads_aim, 2 * budget / 18);
     EXPECT_LT(r.quads.quads.size(), 2 * budget / 18);  // the rounds may double the quads at most
   }
   const QualityReport q = measure_quality(run.result.quads, &input);
