@@ -89,7 +89,8 @@ struct PreparedMesh {
 // \pre `soup` indices are in range (the readers guarantee it). Coordinates may be of any finite
 // magnitude (1e-300 to 1e300 give the same normalized mesh).
 // \throw Error(invalid_input) E013 a NaN or infinite coordinate, E101 non-manifold edge (without
-//        repair), E103 nothing left;
+//        repair), E103 nothing left, or a component without area for its size (collinear
+//        faces, or a vertex so far from the rest that the rest shrinks to a point);
 //        Error(unsupported_topology) E102 non-orientable. With options.diagnose these are
 //        recorded in report.issues instead, and only the acceptable components are returned.
 PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options = {});

@@ -402,6 +402,46 @@ TEST(Prepare, TinyComponentsAreKept) {
   EXPECT_EQ(prepare(single).components.size(), 1u);
 }
 
+// A component without area for its size has no surface for quads: collinear faces beside a
+// sphere (remesh crashed, SIGSEGV), or a sphere with one vertex at 1e100 (CLP aborted) or 1e20
+// (E501 after the layout), which `info` accepted. Rejected as E103, naming the component and
+// the vertex farthest from its centroid; listed when diagnosing. A vertex at 1e3 leaves area.
+TEST(Prepare, ComponentWithoutAreaIsRejected) {
+  PolyMesh m = test::icosphere(2);
+  const uint32_t n = uint32_t(m.positions.size());
+  for (uint32_t i = 0; i < 15; ++i) m.positions.push_back({5.0 + i, 0, 0});
+  for (uint32_t i = 0; i < 13; ++i) m.add_face({n + i, n + i + 1, n + i + 2});
+  try {
+    prepare(m);
+    FAIL() << "accepted a component without area";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), "E103");
+    EXPECT_NE(std::string(e.what()).find("component 1 has no area"), std::string::npos) << e.what();
+    ASSERT_EQ(e.context().vertices.size(), 1u);
+    const uint32_t end = e.context().vertices[0];
+    EXPECT_TRUE(end == n || end == n + 14) << end;  // an end of the line
+  }
+  const PreparedMesh listed = prepare(m, {.diagnose = true});
+  EXPECT_EQ(listed.components.size(), 1u);  // the sphere
+  EXPECT_FALSE(listed.report.components.at(1).kept);
+  ASSERT_TRUE(listed.report.has_errors());
+  for (const double far : {1e20, 1e100}) {
+    PolyMesh spike = test::icosphere(2);
+    spike.positions[7] = {far, 0, 0};
+    try {
+      prepare(spike);
+      FAIL() << "accepted a sphere with a vertex at " << far;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), "E103") << far;
+      EXPECT_NE(std::string(e.what()).find("input vertex 7 at ("), std::string::npos) << e.what();
+      EXPECT_EQ(e.context().vertices, (std::vector<uint32_t>{7}));
+    }
+  }
+  PolyMesh near = test::icosphere(2);
+  near.positions[7] = {1e3, 0, 0};
+  EXPECT_EQ(prepare(near).components.size(), 1u);
+}
+
 TEST(Prepare, NormalizationRoundTrip) {
   PolyMesh m = test::torus(16, 8);
   for (Vec3& p : m.positions) p = 1e6 * p + Vec3{3e6, -2e5, 7};
