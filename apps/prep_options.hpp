@@ -7,6 +7,8 @@
 #include <string>
 
 #include "io/read_mesh.hpp"
+#include "isoquad/remesh.hpp"
+#include "pipeline/remesh.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
 #include "seg/segment.hpp"
@@ -32,13 +34,16 @@ struct PrepArgs {
   double feature_angle = 60.0;
 
   ReadOptions read_options() const { return {.drop_degenerate_faces = repair}; }
-  PrepOptions prep_options(const ReadResult& read) const {
-    PrepOptions o;
+  // The remesh options these set; every subcommand prepares the input as remesh does with them.
+  RemeshOptions remesh_options() const {
+    RemeshOptions o;
     o.repair = repair;
-    o.weld_all = read.unshared_vertices;
     o.weld_epsilon = weld_eps;
     o.feature_angle_deg = feature_angle;
     return o;
+  }
+  PrepOptions prep_options(const ReadResult& read) const {
+    return isoquad::prep_options(remesh_options(), read.unshared_vertices);
   }
 };
 
