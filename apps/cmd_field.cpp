@@ -190,15 +190,13 @@ Runner add_field(CLI::App& app) {
     if (!a->png.empty()) check_output_path(a->png);
     const ReadResult read = read_mesh(a->mesh, a->prep.read_options());
     const PreparedMesh prep = prepare(read.mesh, a->prep.prep_options(read));
-    double total_area = 0;
-    for (const auto& c : prep.components) total_area += surface_area(c.mesh);
     std::vector<ComponentField> fields;
     nlohmann::json out = nlohmann::json::array();
-    for (const PreparedComponent& c : prep.components) {
+    for (uint32_t ci = 0; ci < prep.components.size(); ++ci) {
+      const PreparedComponent& c = prep.components[ci];
       const auto t0 = std::chrono::steady_clock::now();
       ComponentField cf{&c, {}, {}, {}, {}, 0};
-      cf.h = component_edge_length(c.mesh, surface_area(c.mesh) / total_area,
-                                   {a->edge_length, a->quads}, prep.normalization.scale);
+      cf.h = component_size(prep, ci, {a->edge_length, a->quads}).edge_length;
       cf.feature = c.feature;
       cf.refined = split_constraint_conflicts(identity_refinement(c.mesh), cf.feature);
       CrossFieldOptions o;

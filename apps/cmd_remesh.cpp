@@ -149,7 +149,7 @@ Runner add_remesh(CLI::App& app) {
     const ReadResult read = read_mesh(a->input, a->prep.read_options());
     say(fmt::format("read {}: {} vertices, {} faces", a->input, read.mesh.num_vertices(),
                     read.mesh.num_faces()));
-    RemeshOptions o;
+    RemeshOptions o = a->prep.remesh_options();
     o.patches = a->patch.patches;
     o.edge_length = a->patch.edge_length;
     o.quads = a->patch.quads;
@@ -158,8 +158,6 @@ Runner add_remesh(CLI::App& app) {
     o.relax = a->relax;
     o.segmentation = a->segmentation;
     o.local_corners = a->corners == "local";
-    o.feature_angle_deg = a->prep.feature_angle;
-    o.repair = a->prep.repair;
     o.smooth = a->smooth;
     o.untangle = !a->no_untangle;
     o.snap = !a->no_snap;

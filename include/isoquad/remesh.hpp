@@ -29,6 +29,7 @@ struct RemeshOptions {
   bool improve_corners = true;    // refine corners against the relaxed length program
   double feature_angle_deg = 60;  // dihedral angle above which edges are creases (0: none)
   bool repair = false;            // detach non-manifold edges, drop degenerate faces
+  double weld_epsilon = 0;        // weld boundary vertices this close (of the diagonal; 0-0.1)
   uint32_t smooth = 0;            // tangential smoothing iterations on the surface
   bool untangle = true;           // move corners of quads folded against the surface
   bool snap = true;               // move corners onto tips the quads cut off (extract/snap.hpp)

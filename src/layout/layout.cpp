@@ -508,7 +508,8 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
                     const EdgeData<char>& feature, MetaMesh& meta, const LayoutOptions& o,
                     LayoutReport& report) {
   const bool by_count = o.edge_length <= 0;
-  const double wanted = o.quads > 0 ? o.quads : default_quad_count(mesh);
+  const double wanted =
+      o.quads > 0 ? o.quads : default_quad_count(mesh.num_faces(), o.default_share);
   double h = by_count ? edge_length_for_quads(mesh, wanted) : o.edge_length;
   std::optional<Feasible> f;
   for (int insertion = 0; insertion < 4 && !f; ++insertion) {
@@ -629,7 +630,9 @@ std::optional<Layout> relayout_lengths(const TriMesh& mesh, const FaceData<uint3
   Layout layout;
   layout.quarter_turns = base.quarter_turns;
   const bool by_count = o.edge_length <= 0;
-  const double wanted = std::max(o.quads > 0 ? o.quads : default_quad_count(mesh), base.quads_aim);
+  const double wanted =
+      std::max(o.quads > 0 ? o.quads : default_quad_count(mesh.num_faces(), o.default_share),
+               base.quads_aim);
   layout.quads_aim = wanted;
   // The held sides add quads; a slightly larger h takes some back elsewhere, but not so much
   // that the rest of the mesh coarsens (with every patch four-sided on fandisk, an unbounded h

@@ -46,6 +46,9 @@ enum class LengthSolver { cbc, flow };  // flow: LEMON when the system is a netw
 struct LayoutOptions {
   double edge_length = 0;  // target h (mesh units); 0: from `quads`
   double quads = 0;        // target quad count; the size is tuned to land within 10%
+  // With neither: the default count on the layout's surface, for a component that covers this
+  // share of the input's area (pipeline/sizing.hpp default_quad_count).
+  double default_share = 1;
   CornerMode corners = CornerMode::global;
   LengthSolver length_solver = LengthSolver::cbc;
   double angle_weight = 0.5;    // beta in the corner cost (0: paper's length-only cost)

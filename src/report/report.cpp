@@ -392,6 +392,7 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
   }
   for (std::size_t k = 0; k < run.runs.size(); ++k) {
     const ComponentRun& r = run.runs[k];
+    if (r.triangle_split) continue;  // no layout
     const std::string name = k == 0 ? "layout.svg" : fmt::format("layout-{}.svg", k);
     write_layout_svg(dir / name, r.seg.refined.mesh, r.seg.labels, r.layout, r.param.map,
                      r.param.certificate.bad_faces);
@@ -401,6 +402,10 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
   std::vector<QuadMesh> locked_quads;
   locked_quads.reserve(run.runs.size());
   for (const ComponentRun& r : run.runs) {
+    if (r.triangle_split) {  // no map: its quads as they are
+      locked_quads.push_back(r.quads);
+      continue;
+    }
     Param locked = r.param;
     locked.map = locked.locked;
     std::fill(locked.locked_edges.begin(), locked.locked_edges.end(), 1);
