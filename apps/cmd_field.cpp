@@ -206,7 +206,9 @@ Runner add_field(CLI::App& app) {
       o.min_feature_length = a->min_feature;
       cf.field = compute_cross_field(cf.refined.mesh, cf.feature, o);
       const auto t1 = std::chrono::steady_clock::now();
-      cf.traces = trace_separatrices(cf.field, {.edge_length = cf.h});
+      TraceOptions to;
+      to.edge_length = cf.h;
+      cf.traces = trace_separatrices(cf.field, to);
       const auto t2 = std::chrono::steady_clock::now();
       out.push_back(field_summary(cf, std::chrono::duration<double>(t1 - t0).count()));
       out.back()["tracing"] =
