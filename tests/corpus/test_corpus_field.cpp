@@ -122,6 +122,7 @@ LaidOut remesh_with(const ReadResult& input, const std::string& segmentation) {
   EXPECT_TRUE(out.quality.vertex_manifold);
   EXPECT_TRUE(out.quality.same_topology);
   EXPECT_EQ(out.quality.sj_surface_nonpositive, 0u);
+  EXPECT_EQ(out.quality.sj_invalid, 0u) << "scaled Jacobian <= 0.001 against the own normal";
   EXPECT_NEAR(double(out.run.result.quads.num_faces()), 1500, 150);
   return out;
 }

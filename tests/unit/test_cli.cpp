@@ -1,4 +1,5 @@
 // The command line: exit statuses, messages on stderr, and --json output.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <cstdio>
@@ -472,6 +473,20 @@ TEST(Cli, RemeshQualityAndParamOnSampleMeshes) {
             std::string::npos)
       << plain.out;
   EXPECT_NE(run("quality --worst 2 " + out.string()).status, 0);  // needs --reference
+  // The invalid count is labelled as against each quad's own normal; the feature coverage is
+  // measured at --feature-angle (no dihedral angle is above 180 degrees).
+  EXPECT_NE(plain.out.find("against each quad's own normal"), std::string::npos) << plain.out;
+  EXPECT_NE(plain.out.find(fmt::format("{} at most 0.001 (not valid",
+                                       jq["scaled_jacobian"]["at_most_0.001"].get<int>())),
+            std::string::npos)
+      << plain.out;
+  EXPECT_GT(jq["feature_coverage"]["length"].get<double>(), 0);
+  EXPECT_EQ(jq["feature_coverage"], j["quality"]["feature_coverage"]);
+  const CliRun wide =
+      run("quality --json --feature-angle 180 " + out.string() + " --reference " + in);
+  ASSERT_EQ(wide.status, 0) << wide.err;
+  EXPECT_EQ(nlohmann::json::parse(wide.out)["feature_coverage"]["length"].get<double>(), 0.0);
+  EXPECT_NE(run("quality --feature-angle 30 " + out.string()).status, 0);  // needs --reference
   std::filesystem::remove(out);
   const auto obj = dir / ("isoquad_cli_param_" + std::to_string(::getpid()) + ".obj");
   const CliRun p = run("param " + in + " --quads 800 -o " + obj.string() + " --json");
