@@ -235,7 +235,8 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   // The layout may insert meta-vertices; a second choice of corners starts from the meta-mesh as
   // the segmentation built it.
   std::optional<MetaMesh> segmented;
-  if (o.untangle && o.corner_retry_penalty > 0 && o.last != Stage::layout) segmented = run.seg.meta;
+  if (o.untangle && o.corner_retry_penalty > 0 && o.last != Stage::layout && !run.field_used)
+    segmented = run.seg.meta;
   if (o.quad_split) split();
   if (run.field_used) {
     try {
@@ -247,7 +248,8 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       run.field_used = false;
       SegmentOptions so = SegmentOptions::sized(h, o.patches, o.seed);
       run.seg = segment(surface, run.surface_feature, so);
-      if (segmented) segmented = run.seg.meta;
+      if (o.untangle && o.corner_retry_penalty > 0 && o.last != Stage::layout)
+        segmented = run.seg.meta;
     }
   }
   if (!run.field_used) {
@@ -480,7 +482,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   // Folds left still, and patches whose shape no rectangle follows (layout/layout.hpp
   // misfit_patches): their VSA regions are cut in two (seg/vsa.hpp split_vsa_regions) and the
   // stages run again from there; kept if fewer quads fold. The last try: it changes the patches.
-  if (o.misfit_split && !run.quad_split && o.fold_rounds > 0 &&
+  if (o.misfit_split && !run.field_used && !run.quad_split && o.fold_rounds > 0 &&
       run.untangle_report.degenerate > 0) {
     // Each patch's VSA region (for a patch that took in a tiny neighbour in the disk repair,
     // one of the two).
@@ -549,7 +551,7 @@ struct UnkeptSeconds {
 // a time (the farthest first); after any other run not kept, the next run adds the tips found on
 // that run.
 void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRun& run) {
-  if (!o.tip_split || o.last != Stage::extract || run.quads.quads.empty()) return;
+  if (!o.tip_split || run.field_used || o.last != Stage::extract || run.quads.quads.empty()) return;
   const AabbTree& surface = surface_tree(run);
   const double edge = run.layout.edge_length;
   const double target = o.tolerance > 0 ? o.tolerance : kTipTarget;
@@ -585,6 +587,7 @@ void split_tips(double h, const PipelineOptions& o, double diagonal, ComponentRu
     again.surface_tree = run.surface_tree;
     again.subdivision_retreats = run.subdivision_retreats;
     again.corners_unrefined = run.corners_unrefined;
+    again.field_log = run.field_log;  // why the traced patches were not used, if they were tried
     try {
       run_stages(h, o, tips, &run.seg.vsa_labels, diagonal, again);
     } catch (const Error&) {
@@ -869,7 +872,8 @@ ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const Pipeline
 // patches while it is farther than the distance target.
 ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
   ComponentRun run = run_sized_once(prep, c, o);
-  if (!o.patch_rounds || o.patches > 0 || o.last != Stage::extract || run.quads.quads.empty())
+  if (!o.patch_rounds || run.field_used || o.patches > 0 || o.last != Stage::extract ||
+      run.quads.quads.empty())
     return run;
   const double diagonal = mesh_diagonal(prep);
   const double target = o.tolerance > 0 ? o.tolerance : kTipTarget;
@@ -883,11 +887,13 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
   const bool counted = o.quads > 0;
   const double most = kCountSlack * o.quads * run.area_share;
   std::vector<ComponentRun::PatchRound> rounds{{automatic, first}};
+  FieldLayoutLog traced = run.field_log;
   uint32_t kept = 0;
   UnkeptSeconds unkept;
   for (const double growth : kPatchGrowth) {
     PipelineOptions more = o;
     more.patches = uint32_t(std::ceil(growth * automatic));
+    more.field_layout = false;  // this component's traced patches were not used
     std::optional<ComponentRun> again;
     try {
       again = run_sized_once(prep, c, more);
@@ -916,6 +922,7 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
   unkept.charge(run);
   run.patch_rounds = std::move(rounds);
   run.patch_round_kept = kept;
+  run.field_log = std::move(traced);  // why this component's traced patches were not used
   return run;
 }
 

@@ -141,13 +141,10 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.refine = opt.refine;
   o.patch_rounds = opt.patch_rounds;
   o.misfit_split = opt.misfit_split;
-  if (opt.segmentation == "field") {
-    // The field gives the corners; the repairs that re-segment (tips, patch counts, misfit
-    // regions) or re-choose corners are VSA's.
-    o.field_layout = true;
-    o.tip_split = o.patch_rounds = o.misfit_split = false;
-    o.corner_retry_penalty = 0;
-  }
+  // The field gives the corners; the repairs that re-segment (tips, patch counts, misfit
+  // regions) or re-choose corners are VSA's, and run (pipeline.cpp) on the components that
+  // fall back to VSA's patches.
+  o.field_layout = opt.segmentation == "field";
   o.layout.corners = opt.local_corners ? CornerMode::local : CornerMode::global;
   o.layout.improve_corners = opt.improve_corners;
   o.param.weights = opt.paper_weights ? WeightKind::mvc : WeightKind::smvc;

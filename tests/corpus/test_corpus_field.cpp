@@ -195,7 +195,8 @@ TEST(CorpusFieldLayout, KnotIsCutByTheLoopsOfTwoSeeds) {
 }
 
 // Where the traced patches cannot be used (here nefertiti: the map's solve stays inaccurate on
-// them), the component takes VSA's patches, and the report says why.
+// them), the component takes VSA's patches with VSA's repairs, as `--segmentation vsa` would, and
+// the report says why.
 TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
   ISOQUAD_CORPUS_MESH(path, "nefertiti.off");
   const ReadResult input = read_mesh(path);
@@ -208,4 +209,6 @@ TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
   const auto report = nlohmann::json::parse(field.run.result.report);
   EXPECT_EQ(report["components"][0]["layout_source"], "vsa");
   EXPECT_EQ(report["components"][0]["field"]["fallback_reason"], r.field_log.failure);
+  const LaidOut vsa = remesh_with(input, "vsa");
+  EXPECT_EQ(field.run.result.quads.positions, vsa.run.result.quads.positions);
 }
