@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "io/mesh_arrays.hpp"
 #include "io/report_json.hpp"
 #include "isoquad/error.hpp"
 #include "metrics/quality.hpp"
@@ -84,15 +85,27 @@ void warn(RemeshRun& run, InputIssue issue, const Say& say) {
 }  // namespace
 
 PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
-                           const std::function<void(const std::string&)>& progress) {
-  return remesh_run(input, opt, unshared_vertices, progress).result;
+                           const std::function<void(const std::string&)>& progress,
+                           const ProgressCallback& advance) {
+  return remesh_run(input, opt, unshared_vertices, progress, advance).result;
 }
 
 RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
-                     const std::function<void(const std::string&)>& progress) {
+                     const std::function<void(const std::string&)>& progress,
+                     const ProgressCallback& advance) {
+  // How far the run is: preparation and the quality measurements a small share each, the
+  // components the rest, by their faces (the stages inside a component are not reported).
+  Progress at{0, "prepare", ""};
   auto say = [&](const std::string& s) {
     if (progress) progress(s);
+    if (advance) advance({at.fraction, at.stage, s});
   };
+  const auto reach = [&](double fraction, const char* stage) {
+    at.fraction = std::max(at.fraction, fraction);
+    at.stage = stage;
+    if (advance) advance(at);
+  };
+  reach(0, "prepare");
   check_options(opt);
   // Parallel stages are deterministic: the thread count changes the time, not the output.
   std::optional<tbb::global_control> limit;
@@ -100,12 +113,17 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   auto t0 = std::chrono::steady_clock::now();
   PrepOptions po;
   po.repair = opt.repair;
-  po.weld_all = unshared_vertices;
+  po.weld_all = unshared_vertices || opt.weld_all;
   po.feature_angle_deg = opt.feature_angle_deg;
   RemeshRun run;
   run.prep = prepare(input, po);
   const PreparedMesh& prep = run.prep;
   const double prep_s = seconds_since(t0);
+  constexpr double kPrepareShare = 0.05;
+  const double component_share = opt.quality ? 0.9 : 1 - kPrepareShare;
+  uint64_t faces = 0, faces_done = 0;
+  for (const PreparedComponent& c : prep.components) faces += c.mesh.num_faces();
+  at.fraction = kPrepareShare;
   say(fmt::format("prepared {} component{} ({:.0f} ms)", prep.components.size(),
                   prep.components.size() == 1 ? "" : "s", 1e3 * prep_s));
   for (const InputIssue& issue : prep.report.issues) warn(run, issue, say);
@@ -141,8 +159,15 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   std::vector<ComponentRun>& runs = run.runs;
   nlohmann::json comps = nlohmann::json::array();
   for (uint32_t c = 0; c < prep.components.size(); ++c) {
+    const auto component_done = [&] {
+      return kPrepareShare +
+             component_share * double(faces_done) / double(std::max<uint64_t>(faces, 1));
+    };
+    reach(component_done(), "component");
     runs.push_back(run_component(prep, c, o));
     const ComponentRun& r = runs.back();
+    faces_done += prep.components[c].mesh.num_faces();
+    at.fraction = component_done();
     say(fmt::format(
         "component {}: segment {} patches ({:.0f} ms), layout {} quads ({:.0f} ms), "
         "param {} factorizations{} ({:.0f} ms), extract ({:.0f} ms)",
@@ -347,36 +372,20 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                       {"warnings", run.warnings},
                       {"seconds", {{"prepare", prep_s}}}};
   if (opt.quality) {
+    reach(kPrepareShare + component_share, "quality");
     t0 = std::chrono::steady_clock::now();
     j["quality"] = measure_quality(out.quads, &input);
     j["seconds"]["quality"] = seconds_since(t0);
   }
   out.report = j.dump(2);
+  reach(1, "done");
   return run;
 }
 
 RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                    const RemeshOptions& options) {
-  if (V.cols() != 3 || F.cols() != 3)
-    throw Error(ErrorKind::invalid_input, "E020",
-                fmt::format("V must be #V x 3 and F #F x 3 (got {} x {} and {} x {})", V.rows(),
-                            V.cols(), F.rows(), F.cols()));
-  PolyMesh m;
-  m.positions.resize(std::size_t(V.rows()));
-  for (Eigen::Index i = 0; i < V.rows(); ++i) m.positions[i] = {V(i, 0), V(i, 1), V(i, 2)};
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k)
-      if (F(f, k) < 0 || F(f, k) >= V.rows()) {
-        ErrorContext where;
-        where.faces = {uint32_t(f)};
-        throw Error(
-            ErrorKind::invalid_input, "E020",
-            fmt::format("face {} refers to vertex {}, but V has {} rows", f, F(f, k), V.rows()),
-            where);
-      }
-    m.add_face({uint32_t(F(f, 0)), uint32_t(F(f, 1)), uint32_t(F(f, 2))});
-  }
-  const PolyRemesh r = remesh_polymesh(m, options);
+                    const RemeshOptions& options, const ProgressCallback& progress) {
+  const PolyMesh m = poly_mesh_from_arrays(V, F);
+  const PolyRemesh r = remesh_polymesh(m, options, false, {}, progress);
   RemeshResult out;
   out.V.resize(Eigen::Index(r.quads.num_vertices()), 3);
   for (std::size_t i = 0; i < r.quads.num_vertices(); ++i)

@@ -29,12 +29,16 @@ struct RemeshRun {
   std::vector<InputIssue> warnings;
 };
 
+// `progress` gets every line as it is said; `advance` the same lines with how far the run is,
+// and the stage boundaries (isoquad::Progress).
 RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& options,
                      bool unshared_vertices = false,
-                     const std::function<void(const std::string&)>& progress = {});
+                     const std::function<void(const std::string&)>& progress = {},
+                     const ProgressCallback& advance = {});
 
 PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& options,
                            bool unshared_vertices = false,
-                           const std::function<void(const std::string&)>& progress = {});
+                           const std::function<void(const std::string&)>& progress = {},
+                           const ProgressCallback& advance = {});
 
 }  // namespace isoquad
