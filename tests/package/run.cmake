@@ -1,7 +1,9 @@
 # The installed-package test (ctest PackageConsumer): installs this build into a scratch prefix,
 # configures and builds tests/package/consumer against it with find_package(isoquad), and runs
-# it on data/fandisk.off. Variables: BUILD_DIR, SOURCE_DIR, WORK_DIR, GENERATOR, and FLAGS (the
-# sanitizer flags the installed library was built with, which its user must link too).
+# it on data/fandisk.off; where the Python module was built, imports the installed one. Variables:
+# BUILD_DIR, SOURCE_DIR, WORK_DIR, GENERATOR, FLAGS (the sanitizer flags the installed library was
+# built with, which its user must link too), and PYTHON and PYTHON_DIR (the interpreter and the
+# package's folder under the prefix) or empty.
 file(REMOVE_RECURSE ${WORK_DIR})
 function(step)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE status)
@@ -23,4 +25,8 @@ step(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 step(${WORK_DIR}/build/consumer ${SOURCE_DIR}/data/fandisk.off ${WORK_DIR}/fandisk.obj 300)
 if(NOT EXISTS ${WORK_DIR}/fandisk.obj)
   message(FATAL_ERROR "the consumer wrote no quads")
+endif()
+if(PYTHON)
+  set(ENV{PYTHONPATH} ${WORK_DIR}/prefix/${PYTHON_DIR})
+  step(${PYTHON} -c "import isoquad, sys; sys.exit(not isoquad.__file__.startswith('${WORK_DIR}/prefix/'))")
 endif()
