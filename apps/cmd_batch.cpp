@@ -259,8 +259,100 @@ pid_t spawn(const std::vector<std::string>& argv, const fs::path& log) {
   return pid;
 }
 
+// One row per file, and the files to remesh: with --resume, those without an output (an
+// existing output keeps its earlier row, or is "resumed" when that is lost).
+struct Plan {
+  std::vector<Json> rows;
+  std::vector<std::size_t> todo;
+};
+
+Plan plan(const std::vector<fs::path>& files, const std::vector<fs::path>& outputs, bool resume,
+          const fs::path& stem) {
+  Plan p;
+  const std::map<std::string, Json> earlier = resume ? earlier_rows(stem) : decltype(earlier){};
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    p.rows.push_back(empty_row(files[i], outputs[i]));
+    if (!resume || !fs::exists(outputs[i])) {
+      p.todo.push_back(i);
+      continue;
+    }
+    const auto e = earlier.find(files[i].string());
+    if (e != earlier.end() && e->second["status"] == "ok")
+      p.rows.back() = e->second;
+    else
+      p.rows.back()["status"] = "resumed";
+  }
+  return p;
+}
+
+// How far the batch is, on stderr: a bar redrawn in place on a terminal, else a line per file.
+class ProgressLine {
+ public:
+  ProgressLine(std::size_t files, std::size_t to_run, bool quiet)
+      : t0_(Clock::now()),
+        files_(files),
+        to_run_(to_run),
+        quiet_(quiet),
+        tty_(::isatty(STDERR_FILENO) == 1) {}
+
+  double seconds() const { return std::chrono::duration<double>(Clock::now() - t0_).count(); }
+
+  // A file ended (ok or not), with the line that says so.
+  void ended(bool ok, const std::string& line) {
+    ++done_;
+    failed_ += ok ? 0 : 1;
+    show(line);
+  }
+
+  void show(const std::string& line) const {
+    if (quiet_) return;
+    const double elapsed = seconds();
+    const std::size_t left = to_run_ - done_, finished = files_ - left;
+    const std::string eta =
+        done_ > 0 && left > 0
+            ? fmt::format(", about {} left", clock_time(elapsed / double(done_) * double(left)))
+            : "";
+    const std::string counts = fmt::format("{}/{} done, {} failed, {} elapsed{}", finished, files_,
+                                           failed_, clock_time(elapsed), eta);
+    if (tty_) {
+      constexpr int kWidth = 24;
+      const auto filled = int(kWidth * double(finished) / double(std::max<std::size_t>(files_, 1)));
+      fmt::print(stderr, "\r\033[K{}{}[{}{}] {}", line, line.empty() ? "" : "\n",
+                 std::string(std::size_t(filled), '#'),
+                 std::string(std::size_t(kWidth - filled), '.'), counts);
+    } else if (!line.empty()) {
+      fmt::print(stderr, "batch: {} ({})\n", line, counts);
+    }
+  }
+
+  void close() const {
+    if (tty_ && !quiet_) fmt::print(stderr, "\n");
+  }
+  std::size_t failed() const { return failed_; }
+
+ private:
+  Clock::time_point t0_;
+  std::size_t files_, to_run_, done_ = 0, failed_ = 0;
+  bool quiet_, tty_;
+};
+
+// The row a file's process left, or, when it left none (killed by a signal, or ended without
+// writing it), a "crashed" row.
+Json ended_row(Json row, const fs::path& row_path, const fs::path& log, int wstatus) {
+  std::ifstream in(row_path);
+  const Json written = in ? Json::parse(in, nullptr, false) : Json();
+  if (written.is_object() && !written["status"].is_null()) return written;
+  row["status"] = "crashed";
+  row["exit_status"] = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : 128 + WTERMSIG(wstatus);
+  row["error_code"] = "E700";
+  row["error"] = WIFSIGNALED(wstatus)
+                     ? fmt::format("killed by signal {} ({}); its output: {}", WTERMSIG(wstatus),
+                                   strsignal(WTERMSIG(wstatus)), log.string())
+                     : fmt::format("ended without a result; its output: {}", log.string());
+  return row;
+}
+
 int run_batch(const BatchArgs& a) {
-  const auto t0 = Clock::now();
   const std::vector<fs::path> files = expand_inputs(a.inputs);
   const std::vector<fs::path> outputs = output_paths(files, a);
   check_output_folder(a.out_dir);
@@ -269,116 +361,56 @@ int run_batch(const BatchArgs& a) {
   const fs::path work = fs::path(a.out_dir) / ".isoquad-batch";
   fs::create_directories(work);
   if (stem.has_parent_path()) fs::create_directories(stem.parent_path());
-
-  std::vector<Json> rows;
-  std::vector<std::size_t> todo;
-  const std::map<std::string, Json> earlier = a.resume ? earlier_rows(stem) : decltype(earlier){};
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    rows.push_back(empty_row(files[i], outputs[i]));
-    if (a.resume && fs::exists(outputs[i])) {
-      const auto e = earlier.find(files[i].string());
-      if (e != earlier.end() && e->second["status"] == "ok")
-        rows.back() = e->second;
-      else
-        rows.back()["status"] = "resumed";  // done before, its figures unknown
-    } else {
-      todo.push_back(i);
-    }
-  }
-  const bool tty = ::isatty(STDERR_FILENO) == 1;
-  const std::size_t skipped = files.size() - todo.size();
-  std::size_t done = 0, failed = 0;
-  const auto say = [&](const std::string& line) {
-    if (a.quiet) return;
-    const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-    const std::size_t left = todo.size() - done;
-    const std::string eta =
-        done > 0 && left > 0
-            ? fmt::format(", about {} left", clock_time(elapsed / double(done) * double(left)))
-            : "";
-    const std::string counts = fmt::format("{}/{} done, {} failed, {} elapsed{}", done + skipped,
-                                           files.size(), failed, clock_time(elapsed), eta);
-    if (tty) {
-      constexpr int kWidth = 24;
-      const auto filled =
-          int(kWidth * double(done + skipped) / double(std::max<std::size_t>(files.size(), 1)));
-      fmt::print(stderr, "\r\033[K{}{}[{}{}] {}", line, line.empty() ? "" : "\n",
-                 std::string(std::size_t(filled), '#'),
-                 std::string(std::size_t(kWidth - filled), '.'), counts);
-    } else if (!line.empty()) {
-      fmt::print(stderr, "batch: {} ({})\n", line, counts);
-    }
-  };
-  if (skipped > 0 && !a.quiet)
-    fmt::print(stderr, "batch: {} of {} files done before (--resume)\n", skipped, files.size());
-  say("");
-
-  std::vector<std::string> base = command_line();
+  Plan p = plan(files, outputs, a.resume, stem);
+  ProgressLine progress(files.size(), p.todo.size(), a.quiet);
+  if (p.todo.size() < files.size() && !a.quiet)
+    fmt::print(stderr, "batch: {} of {} files done before (--resume)\n",
+               files.size() - p.todo.size(), files.size());
+  progress.show("");
+  const auto row_path = [&](std::size_t i) { return work / fmt::format("{}.json", i); };
+  const auto log_path = [&](std::size_t i) { return work / (files[i].stem().string() + ".log"); };
   std::map<pid_t, std::size_t> running;
   std::size_t next = 0;
-  while (next < todo.size() || !running.empty()) {
-    while (next < todo.size() && running.size() < a.jobs) {
-      const std::size_t i = todo[next++];
-      std::vector<std::string> argv = base;
-      argv.insert(argv.end(), {"--row", (work / fmt::format("{}.json", i)).string(), "--one",
-                               files[i].string()});
+  while (next < p.todo.size() || !running.empty()) {
+    while (next < p.todo.size() && running.size() < a.jobs) {
+      const std::size_t i = p.todo[next++];
+      std::vector<std::string> argv = command_line();
+      argv.insert(argv.end(), {"--row", row_path(i).string(), "--one", files[i].string()});
       std::error_code ec;
-      fs::remove(work / fmt::format("{}.json", i), ec);
-      running[spawn(argv, work / (files[i].stem().string() + ".log"))] = i;
+      fs::remove(row_path(i), ec);
+      running[spawn(argv, log_path(i))] = i;
     }
     int wstatus = 0;
     const pid_t pid = ::waitpid(-1, &wstatus, 0);
-    if (pid < 0) {
-      if (errno == EINTR) continue;
-      throw Error(ErrorKind::internal, "E700", "lost track of the file processes");
-    }
+    if (pid < 0 && errno == EINTR) continue;
+    if (pid < 0) throw Error(ErrorKind::internal, "E700", "lost track of the file processes");
     const auto it = running.find(pid);
     if (it == running.end()) continue;
     const std::size_t i = it->second;
     running.erase(it);
-    ++done;
-    const fs::path row_path = work / fmt::format("{}.json", i),
-                   log = work / (files[i].stem().string() + ".log");
-    std::ifstream in(row_path);
-    Json row;
-    if (in) row = Json::parse(in, nullptr, false);
+    Json& row = p.rows[i];
+    row = ended_row(row, row_path(i), log_path(i), wstatus);
+    const bool ok = row["status"] == "ok";
     std::error_code ec;
-    if (row.is_object() && !row["status"].is_null()) {
-      rows[i] = row;
-    } else {
-      // Killed by a signal, or ended without its row: a crash, whatever it left.
-      rows[i]["status"] = "crashed";
-      rows[i]["exit_status"] = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : 128 + WTERMSIG(wstatus);
-      rows[i]["error_code"] = "E700";
-      rows[i]["error"] =
-          WIFSIGNALED(wstatus)
-              ? fmt::format("killed by signal {} ({}); its output: {}", WTERMSIG(wstatus),
-                            strsignal(WTERMSIG(wstatus)), log.string())
-              : fmt::format("ended without a result; its output: {}", log.string());
-    }
-    fs::remove(row_path, ec);
-    const bool ok = rows[i]["status"] == "ok";
-    if (ok)
-      fs::remove(log, ec);  // a failed file's progress and messages stay beside the outputs
-    else
-      ++failed;
-    say(ok ? fmt::format("{}: {} quads, {:.1f} s", files[i].string(), rows[i]["quads"].dump(),
-                         rows[i]["seconds"].get<double>())
-           : fmt::format("{}: {}: {}", files[i].string(), rows[i]["status"].get<std::string>(),
-                         rows[i]["error"].get<std::string>()));
-    write_summary(stem,
-                  summary_json(rows, std::chrono::duration<double>(Clock::now() - t0).count()));
+    fs::remove(row_path(i), ec);
+    if (ok) fs::remove(log_path(i), ec);  // a failed file's messages stay beside the outputs
+    progress.ended(
+        ok, ok ? fmt::format("{}: {} quads, {:.1f} s", files[i].string(), row["quads"].dump(),
+                             row["seconds"].get<double>())
+               : fmt::format("{}: {}: {}", files[i].string(), row["status"].get<std::string>(),
+                             row["error"].get<std::string>()));
+    write_summary(stem, summary_json(p.rows, progress.seconds()));
   }
-  const Json summary = summary_json(rows, std::chrono::duration<double>(Clock::now() - t0).count());
+  const Json summary = summary_json(p.rows, progress.seconds());
   write_summary(stem, summary);
   std::error_code ec;
   fs::remove(work, ec);  // only when empty: the logs of failed files keep it
-  if (tty && !a.quiet) fmt::print(stderr, "\n");
+  progress.close();
   if (!a.quiet)
     fmt::print(stderr, "batch: {} of {} files remeshed, {} failed; summary in {}.csv and .json\n",
-               summary["ok"].get<uint32_t>(), files.size(), failed, stem.string());
+               summary["ok"].get<uint32_t>(), files.size(), progress.failed(), stem.string());
   if (a.json) std::cout << summary.dump(2) << '\n';
-  return failed > 0 ? 1 : 0;
+  return progress.failed() > 0 ? 1 : 0;
 }
 
 }  // namespace
