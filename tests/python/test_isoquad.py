@@ -94,19 +94,22 @@ class Remesh(unittest.TestCase):
             isoquad.remesh(V, F, quads=300, progress=stop)
 
     def test_the_gil_is_released_while_it_runs(self):
+        # Fandisk at its default size, seconds of work: were the GIL held, this thread would
+        # stand still through all of it. A loaded machine may pause it now and then, briefly.
         V, F = isoquad.read(DATA / "fandisk.off")
         ticks = []
         done = threading.Event()
-        worker = threading.Thread(
-            target=lambda: (isoquad.remesh(V, F, quads=1500), done.set()))
+        worker = threading.Thread(target=lambda: (isoquad.remesh(V, F), done.set()))
+        start = time.perf_counter()
         worker.start()
         while not done.is_set():
             ticks.append(time.perf_counter())
             time.sleep(0.005)
         worker.join()
-        # Python code ran all along: no gap near the whole run's length.
-        self.assertGreater(len(ticks), 10)
-        self.assertLess(max(np.diff(ticks)), 0.1)
+        run = time.perf_counter() - start
+        self.assertGreater(run, 0.5)
+        self.assertGreater(len(ticks), 20)
+        self.assertLess(max(np.diff(ticks)), run / 3)
 
     def test_quality_with_and_without_a_reference(self):
         V, F = isoquad.read(DATA / "sphere.off")
