@@ -3,16 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <nlohmann/json.hpp>
-#include <optional>
 
 #include "io/read_mesh.hpp"
-#include "io/report_json.hpp"
 #include "io/write_mesh.hpp"
 #include "isoquad/error.hpp"
 #include "isoquad/io.hpp"
-#include "isoquad/quality.hpp"
-#include "metrics/quality.hpp"
 
 namespace isoquad {
 
@@ -78,17 +73,6 @@ void write_mesh_arrays(const std::string& path, const Eigen::MatrixXd& V, const 
         fmt::format("group must have one entry per face ({}), not {}", F.rows(), group.size()));
   m.face_group.assign(group.data(), group.data() + group.size());
   write_mesh(path, m);
-}
-
-std::string quality_json(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                         const Eigen::MatrixXd* reference_V, const Eigen::MatrixXi* reference_F) {
-  const PolyMesh quads = poly_mesh_from_arrays(V, F);
-  if (quads.num_faces() == 0)
-    throw Error(ErrorKind::invalid_input, "E020", "the quad mesh has no faces");
-  std::optional<PolyMesh> reference;
-  if (reference_V && reference_F) reference = poly_mesh_from_arrays(*reference_V, *reference_F);
-  const nlohmann::json j = measure_quality(quads, reference ? &*reference : nullptr);
-  return j.dump(2);
 }
 
 }  // namespace isoquad
