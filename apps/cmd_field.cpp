@@ -120,11 +120,15 @@ nlohmann::json trace_summary(const TraceResult& r, double seconds) {
            : t.end == TraceEnd::feature ? "feature"
            : t.end == TraceEnd::track   ? "track"
            : t.end == TraceEnd::cap     ? "cap"
+           : t.end == TraceEnd::node    ? "node"
                                         : "sink"];
   return {{"nodes", r.nodes.size()},
           {"traces", r.traces.size()},
           {"ends", ends},
           {"ray_mismatches", r.ray_mismatches},
+          {"connections", r.connections},
+          {"deleted", r.deleted},
+          {"rounds", r.rounds},
           {"truncated", r.truncated},
           {"straight_crossings", r.straight_crossings},
           {"head_on", r.head_on},
@@ -186,15 +190,13 @@ Runner add_field(CLI::App& app) {
     if (!a->png.empty()) check_output_path(a->png);
     const ReadResult read = read_mesh(a->mesh, a->prep.read_options());
     const PreparedMesh prep = prepare(read.mesh, a->prep.prep_options(read));
-    double total_area = 0;
-    for (const auto& c : prep.components) total_area += surface_area(c.mesh);
     std::vector<ComponentField> fields;
     nlohmann::json out = nlohmann::json::array();
-    for (const PreparedComponent& c : prep.components) {
+    for (uint32_t ci = 0; ci < prep.components.size(); ++ci) {
+      const PreparedComponent& c = prep.components[ci];
       const auto t0 = std::chrono::steady_clock::now();
       ComponentField cf{&c, {}, {}, {}, {}, 0};
-      cf.h = component_edge_length(c.mesh, surface_area(c.mesh) / total_area,
-                                   {a->edge_length, a->quads}, prep.normalization.scale);
+      cf.h = component_size(prep, ci, {a->edge_length, a->quads}).edge_length;
       cf.feature = c.feature;
       cf.refined = split_constraint_conflicts(identity_refinement(c.mesh), cf.feature);
       CrossFieldOptions o;
@@ -204,7 +206,9 @@ Runner add_field(CLI::App& app) {
       o.min_feature_length = a->min_feature;
       cf.field = compute_cross_field(cf.refined.mesh, cf.feature, o);
       const auto t1 = std::chrono::steady_clock::now();
-      cf.traces = trace_separatrices(cf.field, {.edge_length = cf.h});
+      TraceOptions to;
+      to.edge_length = cf.h;
+      cf.traces = trace_separatrices(cf.field, to);
       const auto t2 = std::chrono::steady_clock::now();
       out.push_back(field_summary(cf, std::chrono::duration<double>(t1 - t0).count()));
       out.back()["tracing"] =

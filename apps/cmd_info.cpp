@@ -1,4 +1,5 @@
-// isoquad info MESH: what the file holds and what remesh would repair or reject.
+// isoquad info MESH: what the file holds and what remesh would repair or reject (by remesh's
+// own checks before the stages, pipeline/remesh.hpp check_input).
 #include <fmt/format.h>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -7,6 +8,7 @@
 #include "io/read_mesh.hpp"
 #include "io/report_json.hpp"
 #include "isoquad/error.hpp"
+#include "pipeline/remesh.hpp"
 #include "prep/prepare.hpp"
 #include "prep_options.hpp"
 
@@ -74,9 +76,9 @@ Runner add_info(CLI::App& app) {
   add_prep_options(*sub, args->prep);
   return [args] {
     const ReadResult read = read_mesh(args->mesh, args->prep.read_options());
-    PrepOptions options = args->prep.prep_options(read);
-    options.diagnose = true;
-    const PreparedMesh prepared = prepare(read.mesh, options);
+    // remesh's own checks, so that "would accept" holds for remesh with the same options.
+    const PreparedMesh prepared =
+        check_input(read.mesh, args->prep.remesh_options(), read.unshared_vertices, true);
     if (args->json) {
       nlohmann::json j = prepared.report;
       j["file"] = args->mesh;

@@ -47,12 +47,11 @@ Runner add_layout(CLI::App& app) {
   return [a] {
     const ReadResult read = read_mesh(a->mesh, a->prep.read_options());
     const PreparedMesh prep = prepare(read.mesh, a->prep.prep_options(read));
-    double total_area = 0;
-    for (const auto& c : prep.components) total_area += surface_area(c.mesh);
     nlohmann::json out = nlohmann::json::array();
-    for (const PreparedComponent& c : prep.components) {
-      const double share = surface_area(c.mesh) / total_area;
-      const SegmentOptions so = segment_options(a->patch, c.mesh, share, prep.normalization.scale);
+    for (uint32_t ci = 0; ci < prep.components.size(); ++ci) {
+      const PreparedComponent& c = prep.components[ci];
+      const ComponentSize size = component_size(prep, ci, {a->patch.edge_length, a->patch.quads});
+      const SegmentOptions so = segment_options(a->patch, prep, ci);
       const double h = so.vsa.target_edge_length;
       // The surface the pipeline works on (coarse components subdivided, pipeline.hpp).
       EdgeData<char> feature;
@@ -65,10 +64,9 @@ Runner add_layout(CLI::App& app) {
       lo.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;
       lo.length_solver = a->ilp == "flow" ? LengthSolver::flow : LengthSolver::cbc;
       lo.improve_corners = a->improve_corners;
-      if (a->patch.edge_length > 0)
-        lo.edge_length = h;
-      else
-        lo.quads = a->patch.quads > 0 ? a->patch.quads * share : 0;
+      lo.edge_length = a->patch.edge_length > 0 ? h : 0;
+      lo.quads = size.quads;
+      lo.default_share = size.area_share;
       LayoutReport report;
       const Layout layout =
           solve_layout(seg.refined.mesh, seg.labels, seg.feature, seg.meta, lo, report);

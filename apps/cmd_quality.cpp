@@ -8,7 +8,9 @@
 #include "commands.hpp"
 #include "io/read_mesh.hpp"
 #include "io/report_json.hpp"
+#include "metrics/feature_coverage.hpp"
 #include "metrics/quality.hpp"
+#include "prep_options.hpp"
 
 namespace isoquad::cli {
 
@@ -17,6 +19,7 @@ struct QualityArgs {
   std::string mesh, reference;
   bool json = false;
   uint32_t worst = 0;
+  double feature_angle = QualityOptions{}.feature_angle_deg;
 };
 
 struct WorstFace {
@@ -61,14 +64,33 @@ void print_quality(const QualityReport& q) {
   std::string val;
   for (const auto& [k, n] : q.valence) val += fmt::format(" {}:{}", k, n);
   fmt::print("irregular vertices {}; interior valences{}\n", q.irregular, val);
-  fmt::print("scaled Jacobian min {:.3f}, mean {:.3f}, {:.1f}% below 0.5, {} <= 0", q.sj_min,
-             q.sj_mean, q.sj_below_half, q.sj_nonpositive);
-  if (q.has_reference)
-    fmt::print("; against the surface normal min {:.3f}, {} <= 0", q.sj_surface_min,
-               q.sj_surface_nonpositive);
   fmt::print(
-      "\nangle deviation mean {:.1f} deg, max {:.1f} deg; edge length mean {:.4g}, cv {:.3f}\n",
+      "scaled Jacobian against each quad's own normal: min {:.3f}, mean {:.3f}, {:.1f}% below 0.5, "
+      "{} at most {} (not valid; {} of them <= 0)\n",
+      q.sj_min, q.sj_mean, q.sj_below_half, q.sj_invalid, kMinValidScaledJacobian,
+      q.sj_nonpositive);
+  if (q.has_reference)
+    fmt::print("scaled Jacobian against the surface normal: min {:.3f}, {} <= 0 (folded)\n",
+               q.sj_surface_min, q.sj_surface_nonpositive);
+  fmt::print(
+      "angle deviation mean {:.1f} deg, max {:.1f} deg; edge length mean {:.4g}, cv {:.3f}\n",
       q.angle_deviation_mean, q.angle_deviation_max, q.edge_mean, q.edge_cv);
+  fmt::print(
+      "aspect ratio (opposite sides' mean lengths, larger over smaller) mean {:.3f}, 95th "
+      "percentile {:.3f}, {:.1f}% above 2; area cv {:.3f}\n",
+      q.aspect_mean, q.aspect_p95, q.aspect_above_2, q.area_cv);
+  if (q.has_reference) {
+    if (q.feature_length > 0)
+      fmt::print(
+          "feature coverage {:.1f}%: of the input's feature edges (dihedral angle above {:g} "
+          "deg, length {:.4g}), the part within {:g} x the mean edge length of a quad edge\n",
+          100 * q.feature_coverage, q.feature_angle_deg, q.feature_length,
+          kFeatureCoverageTolerance);
+    else
+      fmt::print(
+          "feature coverage: the input has no feature edge (dihedral angle above {:g} deg)\n",
+          q.feature_angle_deg);
+  }
   if (q.has_reference)
     fmt::print(
         "distance to the input: Hausdorff {:.3f}% (reached at ({:.4g}, {:.4g}, {:.4g}) on the "
@@ -88,11 +110,19 @@ Runner add_quality(CLI::App& app) {
                   "Also list the N faces with the smallest scaled Jacobian against the surface "
                   "(id from 0 in file order, value, centroid)")
       ->needs(sub->get_option("--reference"));
+  sub->add_option("--feature-angle", a->feature_angle,
+                  "Feature coverage: the input's edges with a dihedral angle above this (degrees; "
+                  "0: none), as remesh --feature-angle")
+      ->capture_default_str()
+      ->check(number_in(0, 180, "an angle in [0, 180] degrees"))
+      ->needs(sub->get_option("--reference"));
   return [a] {
     const ReadResult quads = read_mesh(a->mesh);
     std::optional<ReadResult> ref;
     if (!a->reference.empty()) ref = read_mesh(a->reference);
-    const QualityReport q = measure_quality(quads.mesh, ref ? &ref->mesh : nullptr);
+    QualityOptions options;
+    options.feature_angle_deg = a->feature_angle;
+    const QualityReport q = measure_quality(quads.mesh, ref ? &ref->mesh : nullptr, options);
     const std::vector<WorstFace> worst =
         a->worst > 0 ? worst_faces(quads.mesh, ref->mesh, a->worst) : std::vector<WorstFace>{};
     if (a->json) {

@@ -116,7 +116,7 @@ void add_remesh_options(CLI::App& app, RemeshArgs& args) {
 }
 
 RemeshOptions remesh_options(const RemeshArgs& a) {
-  RemeshOptions o;
+  RemeshOptions o = a.prep.remesh_options();
   o.patches = a.patch.patches;
   o.edge_length = a.patch.edge_length;
   o.quads = a.patch.quads;
@@ -125,8 +125,6 @@ RemeshOptions remesh_options(const RemeshArgs& a) {
   o.relax = a.relax;
   o.segmentation = a.segmentation;
   o.local_corners = a.corners == "local";
-  o.feature_angle_deg = a.prep.feature_angle;
-  o.repair = a.prep.repair;
   o.smooth = a.smooth;
   o.untangle = !a.no_untangle;
   o.snap = !a.no_snap;

@@ -48,11 +48,9 @@ Runner add_segment(CLI::App& app) {
     std::vector<SegmentResult> shown;
     nlohmann::json summary = nlohmann::json::array();
     uint32_t offset = 0;
-    double total_area = 0;
-    for (const auto& c : prep.components) total_area += surface_area(c.mesh);
-    for (const PreparedComponent& c : prep.components) {
-      const SegmentOptions so = segment_options(a->patch, c.mesh, surface_area(c.mesh) / total_area,
-                                                prep.normalization.scale);
+    for (uint32_t ci = 0; ci < prep.components.size(); ++ci) {
+      const PreparedComponent& c = prep.components[ci];
+      const SegmentOptions so = segment_options(a->patch, prep, ci);
       // The surface the pipeline works on (coarse components subdivided, pipeline.hpp).
       EdgeData<char> feature;
       uint32_t subdivisions = 0;

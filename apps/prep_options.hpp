@@ -7,6 +7,8 @@
 #include <string>
 
 #include "io/read_mesh.hpp"
+#include "isoquad/remesh.hpp"
+#include "pipeline/remesh.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
 #include "seg/segment.hpp"
@@ -29,18 +31,19 @@ inline CLI::Validator number_in(double lo, double hi, const std::string& what) {
 struct PrepArgs {
   bool repair = false;
   double weld_eps = 0.0;
-  uint32_t min_component_faces = 10;
   double feature_angle = 60.0;
 
   ReadOptions read_options() const { return {.drop_degenerate_faces = repair}; }
-  PrepOptions prep_options(const ReadResult& read) const {
-    PrepOptions o;
+  // The remesh options these set; every subcommand prepares the input as remesh does with them.
+  RemeshOptions remesh_options() const {
+    RemeshOptions o;
     o.repair = repair;
-    o.weld_all = read.unshared_vertices;
     o.weld_epsilon = weld_eps;
-    o.min_component_faces = min_component_faces;
     o.feature_angle_deg = feature_angle;
     return o;
+  }
+  PrepOptions prep_options(const ReadResult& read) const {
+    return isoquad::prep_options(remesh_options(), read.unshared_vertices);
   }
 };
 
@@ -52,9 +55,6 @@ inline void add_prep_options(CLI::App& sub, PrepArgs& a) {
                  "Weld boundary vertices closer than this fraction of the bounding-box diagonal")
       ->capture_default_str()
       ->check(number_in(0, 0.1, "a fraction in [0, 0.1]"));
-  sub.add_option("--min-component-faces", a.min_component_faces,
-                 "Drop connected components with fewer faces (with a warning)")
-      ->capture_default_str();
   sub.add_option("--feature-angle", a.feature_angle,
                  "Dihedral angle in degrees above which an edge is a feature (0: none)")
       ->capture_default_str()
@@ -90,12 +90,11 @@ inline void add_patch_options(CLI::App& sub, PatchArgs& a) {
   sub.add_option("--seed", a.seed, "Random seed")->capture_default_str();
 }
 
-// Segmentation options for one component: the requested size shared out by area.
-inline SegmentOptions segment_options(const PatchArgs& a, const TriMesh& component,
-                                      double area_share, double scale) {
-  return SegmentOptions::sized(
-      component_edge_length(component, area_share, {a.edge_length, a.quads}, scale), a.patches,
-      a.seed);
+// Segmentation options for component `c`: its part of the requested size (one budget for the
+// whole mesh, shared out by area).
+inline SegmentOptions segment_options(const PatchArgs& a, const PreparedMesh& prep, uint32_t c) {
+  return SegmentOptions::sized(component_size(prep, c, {a.edge_length, a.quads}).edge_length,
+                               a.patches, a.seed);
 }
 
 }  // namespace isoquad::cli

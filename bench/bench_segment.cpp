@@ -9,7 +9,7 @@ namespace {
 
 isoquad::SegmentOptions options(const isoquad::TriMesh& m, uint32_t k) {
   return isoquad::SegmentOptions::sized(
-      isoquad::edge_length_for_quads(m, isoquad::default_quad_count(m)), k);
+      isoquad::edge_length_for_quads(m, isoquad::default_quad_count(m.num_faces())), k);
 }
 
 void BM_Segment(benchmark::State& state, const char* name) {

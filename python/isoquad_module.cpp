@@ -133,6 +133,7 @@ PYBIND11_MODULE(_core, m) {
   ISOQUAD_FIELD(improve_corners);
   ISOQUAD_FIELD(feature_angle_deg);
   ISOQUAD_FIELD(repair);
+  ISOQUAD_FIELD(weld_epsilon);
   ISOQUAD_FIELD(weld_all);
   ISOQUAD_FIELD(smooth);
   ISOQUAD_FIELD(untangle);

@@ -30,6 +30,7 @@ struct RemeshOptions {
   bool improve_corners = true;    // refine corners against the relaxed length program
   double feature_angle_deg = 60;  // dihedral angle above which edges are creases (0: none)
   bool repair = false;            // detach non-manifold edges, drop degenerate faces
+  double weld_epsilon = 0;        // weld boundary vertices this close (of the diagonal; 0-0.1)
   // Weld every vertex onto another at the same position first: for STL files, whose faces each
   // have their own vertices (MeshArrays::unshared_vertices, isoquad/io.hpp).
   bool weld_all = false;

@@ -145,10 +145,10 @@ def _choice(name, value, choices):
 
 def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weights="smvc",
            relax="adaptive", segmentation="vsa", corners="global", improve_corners=True,
-           feature_angle=60.0, repair=False, weld_all=False, smooth=0, untangle=True, snap=True,
-           fold_rounds=2, split_patches=False, tip_split=True, refine=True, patch_rounds=True,
-           misfit_split=True, tolerance=0.0, tolerance_rounds=2, threads=0, quality=True,
-           progress=None):
+           feature_angle=60.0, repair=False, weld_eps=0.0, weld_all=False, smooth=0,
+           untangle=True, snap=True, fold_rounds=2, split_patches=False, tip_split=True,
+           refine=True, patch_rounds=True, misfit_split=True, tolerance=0.0, tolerance_rounds=2,
+           threads=0, quality=True, progress=None):
     """Remesh a triangle mesh into a pure quad mesh: returns (V, Q, report).
 
     V: float64 (n, 3) positions; F: integer (m, 3) triangles (or (m, k) polygons padded with
@@ -187,6 +187,8 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
     Input:
       feature_angle    dihedral angle in degrees above which an edge is a crease (default 60)
       repair           detach non-manifold edges, drop degenerate faces instead of refusing
+      weld_eps         weld boundary vertices closer than this fraction of the diagonal
+                       (0 to 0.1, default 0)
       weld_all         weld every coincident vertex first (STL soups; see read)
     Run:
       threads          worker threads at most (0: all cores); the output is the same for any
@@ -216,6 +218,7 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
     o.improve_corners = bool(improve_corners)
     o.feature_angle_deg = float(feature_angle)
     o.repair = bool(repair)
+    o.weld_epsilon = float(weld_eps)
     o.weld_all = bool(weld_all)
     o.smooth = _count("smooth", smooth)
     o.untangle = bool(untangle)

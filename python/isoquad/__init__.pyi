@@ -69,6 +69,7 @@ def remesh(
     improve_corners: bool = ...,
     feature_angle: float = ...,
     repair: bool = ...,
+    weld_eps: float = ...,
     weld_all: bool = ...,
     smooth: int = ...,
     untangle: bool = ...,

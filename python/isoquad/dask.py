@@ -41,7 +41,6 @@ _OPTIONS = {
     "feature_angle": ("--feature-angle", "value"),
     "repair": ("--repair", "flag"),
     "weld_eps": ("--weld-eps", "value"),
-    "min_component_faces": ("--min-component-faces", "value"),
     "smooth": ("--smooth", "value"),
     "untangle": ("--no-untangle", "negated"),
     "snap": ("--no-snap", "negated"),
@@ -61,8 +60,8 @@ _OPTIONS = {
 
 def batch_arguments(**options):
     """The `isoquad batch` arguments for remesh options named as isoquad.remesh names them
-    (quads=1500, tip_split=False, ...), plus format ("obj", "off", "ply"), report (a folder),
-    weld_eps and min_component_faces. An unknown name is a TypeError."""
+    (quads=1500, tip_split=False, weld_eps=0.01, ...), plus format ("obj", "off", "ply") and
+    report (a folder). An unknown name is a TypeError."""
     args = []
     for name, value in options.items():
         if name not in _OPTIONS:
@@ -145,8 +144,7 @@ def remesh_many(paths, out_dir, client=None, **options):
 
     client: a dask.distributed Client; None starts a LocalCluster with one single-threaded
     worker process per core for the call. options: those of isoquad.remesh (quads=1500,
-    tip_split=False, ...) and format, report, weld_eps, min_component_faces
-    (see batch_arguments).
+    tip_split=False, ...) and format and report (see batch_arguments).
     """
     import time
 

@@ -6,10 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <queue>
 
 #include "core/face_regions.hpp"
 #include "isoquad/error.hpp"
 #include "layout/divide_split.hpp"
+#include "seg/disk_patches.hpp"
 #include "seg/patch_topology.hpp"
 
 namespace isoquad {
@@ -21,8 +23,9 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// An edge point this close to an end of its edge (in fractions of the edge) is that vertex.
-constexpr double kSnap = 1e-6;
+// An edge point this close to an end of its edge (in fractions of the edge) is that vertex: a
+// closer cut would leave a sliver triangle the locked map cannot certify.
+constexpr double kSnap = 0.02;
 
 // The traces' points as vertices of the cut mesh: mesh vertices (sources, snapped points) or
 // edge points shared by every trace that crosses the edge there.
@@ -66,12 +69,13 @@ std::optional<uint32_t> junction_node(const CrossField& cf, const TraceResult& t
   for (std::size_t j = 0; j < other.faces.size(); ++j) {
     if (other.faces[j] != f) continue;
     for (const std::size_t k : {j, j + 1}) {
-      const bool vertex = k == 0, edge = other.on_edge[k].edge != kInvalid;
-      if (!vertex && !edge) continue;
+      const bool source = k == 0, edge = other.on_edge[k].edge != kInvalid;
+      const bool node = other.end == TraceEnd::node && k + 1 == other.points.size();
+      if (!source && !edge && !node) continue;
       const double d = norm(position_on(cf.surface, other.points[k]) - x);
       if (d >= nearest) continue;
       nearest = d;
-      best = vertex ? other.source : nodes.of(other.on_edge[k]);
+      best = source ? other.source : node ? other.end_vertex : nodes.of(other.on_edge[k]);
     }
   }
   return best;
@@ -118,6 +122,10 @@ std::optional<Embedded> embed(const RefinedMesh& base, const CrossField& cf, con
     }
     std::vector<uint32_t> path{t.source};
     for (std::size_t k = 1; k < t.points.size(); ++k) {
+      if (t.end == TraceEnd::node && k + 1 == t.points.size()) {
+        path.push_back(t.end_vertex);
+        continue;
+      }
       if (t.on_edge[k].edge != kInvalid) {
         path.push_back(nodes.of(t.on_edge[k]));
         continue;
@@ -138,6 +146,11 @@ std::optional<Embedded> embed(const RefinedMesh& base, const CrossField& cf, con
     out.nodes.push_back(path.front());
     out.nodes.push_back(path.back());
     out.sources.push_back(path.front());
+    // A connection ends at a node: every sector there is a quarter, as at a source.
+    if (t.end == TraceEnd::node) {
+      out.sources.push_back(path.back());
+      continue;
+    }
     // The last step that moved (a trace may end where it entered its last face).
     std::size_t last = path.size() - 1;
     while (last > 0 && path[last - 1] == path.back()) --last;
@@ -222,9 +235,12 @@ struct TraceTurns {
   std::vector<char> source;
   std::vector<std::vector<Embedded::Stem>> stems;  // per vertex
 
-  TraceTurns(const TriMesh& m, const FaceData<uint32_t>& l, const Embedded& em)
+  TraceTurns(const TriMesh& m, const FaceData<uint32_t>& l, const Embedded& em,
+             const std::vector<uint32_t>& partial)
       : mesh(m), labels(l), source(m.num_vertices(), 0), stems(m.num_vertices()) {
     for (uint32_t v : em.sources) source[v] = 1;
+    // A node with a deleted ray has a sector of two quarters: the angles tell which.
+    for (uint32_t v : partial) source[v] = 0;
     for (const Embedded::Stem& s : em.stems) stems[s.end].push_back(s);
   }
 
@@ -252,18 +268,20 @@ struct TraceTurns {
   }
 };
 
-// Per patch, the cycle items at which it turns by a quarter (its corners), or empty if some
-// patch does not have exactly four or turns by three quarters somewhere. A patch's angle at a
+// Per patch, the cycle items at which it turns by a quarter (its corners); kFreeCorners for a
+// patch the disk repair changed, or that does not have exactly four or turns by three quarters
+// somewhere (the traces missed each other there). A patch's angle at a
 // meta-vertex is measured between its two sides at a distance of about h/2 (or half the side):
 // a traced side bends at the scale of a triangle where it meets a track, so the angle of the
 // triangles at the vertex says little.
-std::optional<std::vector<std::array<uint32_t, 4>>> patch_corners(const TriMesh& mesh,
-                                                                  const FaceData<uint32_t>& labels,
-                                                                  const MetaMesh& meta, double h,
-                                                                  const TraceTurns& turns,
-                                                                  std::string& failure) {
-  std::vector<std::array<uint32_t, 4>> corners(meta.faces.size());
+std::vector<std::array<uint32_t, 4>> patch_corners(const TriMesh& mesh,
+                                                   const FaceData<uint32_t>& labels,
+                                                   const MetaMesh& meta, double h,
+                                                   const TraceTurns& turns,
+                                                   const std::vector<char>& repaired) {
+  std::vector<std::array<uint32_t, 4>> corners(meta.faces.size(), kFreeCorners);
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
+    if (repaired[p]) continue;
     const MetaFace& face = meta.faces[p];
     const std::size_t n = face.cycle.size();
     std::vector<uint32_t> found;
@@ -291,18 +309,97 @@ std::optional<std::vector<std::array<uint32_t, 4>>> patch_corners(const TriMesh&
       if (angle <= 0) angle += 2 * std::numbers::pi;
       const long q = std::lround(angle / (std::numbers::pi / 2));
       if (q >= 3) {
-        failure = fmt::format("patch {} turns by {} quarters at vertex {}", p, q, v);
-        return std::nullopt;
+        found.clear();
+        break;
       }
       if (q <= 1) found.push_back(i);
     }
-    if (found.size() != 4) {
-      failure = fmt::format("patch {} has {} corners", p, found.size());
-      return std::nullopt;
-    }
-    std::copy(found.begin(), found.end(), corners[p].begin());
+    if (found.size() == 4) std::copy(found.begin(), found.end(), corners[p].begin());
   }
   return corners;
+}
+
+// Which patches of `after` are not one traced patch of `before`, face for face.
+std::vector<char> changed_patches(const FaceData<uint32_t>& before, uint32_t n_before,
+                                  const FaceData<uint32_t>& after, uint32_t n_after) {
+  std::vector<uint32_t> was(n_after, kInvalid), now(n_before, kInvalid);
+  std::vector<char> changed(n_after, 0);
+  for (uint32_t f = 0; f < after.size(); ++f) {
+    const uint32_t a = after[f], b = before[f];
+    if (was[a] == kInvalid) was[a] = b;
+    if (now[b] == kInvalid) now[b] = a;
+    if (was[a] != b) changed[a] = 1;
+    if (now[b] != a) changed[a] = changed[now[b]] = 1;
+  }
+  return changed;
+}
+
+// Seeds for the patches that are not disks (FIELD_LAYOUT.md §4), at most kMaxSeeded of them: in
+// each, the vertex farthest from its boundary (or, with no boundary, from its first vertex), and
+// the vertex farthest from that one, both regular interior vertices of the field's surface off
+// the features. Their traces close loops around the handle or join the two seeds, in pairs far
+// apart, so that no patch borders itself.
+std::vector<uint32_t> handle_seeds(const TriMesh& cut, const FaceData<uint32_t>& labels,
+                                   uint32_t patches, const EdgeData<char>& feature,
+                                   const CrossField& cf) {
+  constexpr uint32_t kMaxSeeded = 8;
+  const std::vector<PatchTopology> topo = patch_topology(cut, labels, patches);
+  std::vector<uint32_t> seeds;
+  uint32_t seeded = 0;
+  const uint32_t base_vertices = cf.surface.num_vertices();
+  for (uint32_t p = 0; p < patches; ++p) {
+    if (topo[p].is_disk() || topo[p].faces == 0) continue;
+    if (++seeded > kMaxSeeded) return {};
+    // Vertices inside p: every face around them in p, no feature edge at them.
+    auto inside = [&](uint32_t v) {
+      if (cut.is_boundary_vertex(v)) return false;
+      bool in = true;
+      cut.for_each_outgoing(v, [&](uint32_t he) {
+        in = in && labels[TriMesh::face_of(he)] == p && !feature[cut.edge(he)];
+      });
+      return in;
+    };
+    auto farthest = [&](const std::vector<uint32_t>& from) {
+      std::vector<double> dist(cut.num_vertices(), INFINITY);
+      using Item = std::pair<double, uint32_t>;
+      std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+      for (uint32_t v : from) queue.push({dist[v] = 0, v});
+      while (!queue.empty()) {
+        const auto [d, v] = queue.top();
+        queue.pop();
+        if (d > dist[v]) continue;
+        cut.for_each_outgoing(v, [&](uint32_t he) {
+          if (labels[TriMesh::face_of(he)] != p) return;
+          const uint32_t w = cut.to(he);
+          const double dw = d + norm(cut.position(w) - cut.position(v));
+          if (dw < dist[w]) queue.push({dist[w] = dw, w});
+        });
+      }
+      uint32_t best = kInvalid;
+      for (uint32_t v = 0; v < base_vertices; ++v)
+        if (dist[v] < INFINITY && cf.index4[v] == 0 && inside(v) &&
+            (best == kInvalid || dist[v] > dist[best]))
+          best = v;
+      return best;
+    };
+    std::vector<uint32_t> edge_of_patch;
+    uint32_t first = kInvalid;
+    for (uint32_t f = 0; f < cut.num_faces(); ++f) {
+      if (labels[f] != p) continue;
+      for (uint32_t v : cut.face(f)) {
+        if (first == kInvalid || v < first) first = v;
+        if (!inside(v)) edge_of_patch.push_back(v);
+      }
+    }
+    if (edge_of_patch.empty()) edge_of_patch.push_back(first);
+    const uint32_t a = farthest(edge_of_patch);
+    if (a == kInvalid) continue;
+    seeds.push_back(a);
+    if (const uint32_t b = farthest({a}); b != kInvalid && b != a) seeds.push_back(b);
+  }
+  std::sort(seeds.begin(), seeds.end());
+  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  return seeds;
 }
 
 }  // namespace
@@ -318,38 +415,77 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   log.singularities = uint32_t(cf.singular.size());
   log.field_seconds = seconds_since(t0);
 
-  t0 = Clock::now();
-  const TraceResult tr = trace_separatrices(cf, {.edge_length = h});
-  log.nodes = uint32_t(tr.nodes.size());
-  log.traces = uint32_t(tr.traces.size());
-  for (const Trace& t : tr.traces) log.t_junctions += t.end == TraceEnd::track;
-  log.trace_seconds = seconds_since(t0);
-
-  t0 = Clock::now();
   FieldSegmentation out;
-  std::optional<Embedded> em = embed(base, cf, tr, log.failure);
-  if (!em) return out;
-  const TriMesh& cut = em->refined.mesh;
-  const EdgeData<char> seam = seam_edges(cut, em->seams);
   SegmentResult& seg = out.seg;
-  std::vector<uint32_t> region;
-  seg.num_patches = face_regions(
-      cut, [&](uint32_t he) { return !seam[cut.edge(he)] && !em->feature[cut.edge(he)]; },
-      [](uint32_t) { return true; }, region);
-  seg.labels = FaceData<uint32_t>(std::move(region));
+  TraceResult tr;
+  std::optional<Embedded> em;
+  EdgeData<char> seam;
+  TraceOptions to;
+  to.edge_length = h;
+  // Traced, and traced again with seeds if some patch is not a disk (a handle no trace cuts).
+  for (int pass = 0; pass < 2; ++pass) {
+    t0 = Clock::now();
+    tr = trace_separatrices(cf, to);
+    log.nodes = uint32_t(tr.nodes.size());
+    log.traces = uint32_t(tr.traces.size());
+    log.t_junctions = 0;
+    for (const Trace& t : tr.traces) log.t_junctions += t.end == TraceEnd::track;
+    log.connections = tr.connections;
+    log.deleted = tr.deleted;
+    log.rounds = tr.rounds;
+    log.trace_seconds += seconds_since(t0);
+
+    t0 = Clock::now();
+    log.failure.clear();
+    em = embed(base, cf, tr, log.failure);
+    if (!em) return out;
+    const TriMesh& cut = em->refined.mesh;
+    seam = seam_edges(cut, em->seams);
+    std::vector<uint32_t> region;
+    seg.num_patches = face_regions(
+        cut, [&](uint32_t he) { return !seam[cut.edge(he)] && !em->feature[cut.edge(he)]; },
+        [](uint32_t) { return true; }, region);
+    seg.labels = FaceData<uint32_t>(std::move(region));
+    log.embed_seconds += seconds_since(t0);
+    if (pass > 0) break;
+    to.seeds = handle_seeds(cut, seg.labels, seg.num_patches, em->feature, cf);
+    log.seeds = uint32_t(to.seeds.size());
+    if (to.seeds.empty()) break;
+  }
+  t0 = Clock::now();
+  const TriMesh& cut = em->refined.mesh;
+  // Patches that are not disks (a handle no trace crossed), pinched, or too small for four
+  // corners (between two traces that nearly met) are made disks as VSA's are.
+  const FaceData<uint32_t> traced = seg.labels;
+  const uint32_t traced_patches = seg.num_patches;
+  DiskRepairLog repair;
+  try {
+    seg.num_patches = make_disk_patches(cut, seg.labels, repair);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::unsupported_topology) throw;
+    log.failure = fmt::format("the traced patches cannot be made disks: {}", e.what());
+    seg.refined = std::move(em->refined);
+    seg.feature = std::move(em->feature);
+    return out;
+  }
   log.patches = seg.num_patches;
-  const std::vector<PatchTopology> topo = patch_topology(cut, seg.labels, seg.num_patches);
-  for (uint32_t p = 0; p < seg.num_patches; ++p)
-    if (!topo[p].is_disk()) {
-      log.failure = fmt::format("patch {} is not a disk ({} boundary loops, euler {})", p,
-                                topo[p].boundary_loops, topo[p].euler());
-      seg.refined = std::move(em->refined);
-      seg.feature = std::move(em->feature);
-      return out;
-    }
+  const std::vector<char> repaired =
+      changed_patches(traced, traced_patches, seg.labels, seg.num_patches);
+  log.repaired_patches = uint32_t(std::count(repaired.begin(), repaired.end(), 1));
 
   MetaMeshOptions mo;
-  mo.forced = em->nodes;
+  // The traces' ends, where they still lie on a patch boundary (the disk repair may have merged
+  // the patches on both sides of a trace).
+  for (uint32_t v : em->nodes) {
+    uint32_t first = kInvalid;
+    bool on_seam = cut.is_boundary_vertex(v);
+    cut.for_each_outgoing(v, [&](uint32_t he) {
+      const uint32_t l = seg.labels[TriMesh::face_of(he)];
+      if (first == kInvalid) first = l;
+      on_seam = on_seam || l != first;
+    });
+    if (on_seam) mo.forced.push_back(v);
+  }
   std::sort(mo.forced.begin(), mo.forced.end());
   mo.forced.erase(std::unique(mo.forced.begin(), mo.forced.end()), mo.forced.end());
   seg.refined = std::move(em->refined);
@@ -372,10 +508,11 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   }
   measure_geodesic_lengths(seg.refined.mesh, seg.labels, seg.meta);
   seg.vsa_labels = seg.labels;
-  const TraceTurns turns(seg.refined.mesh, seg.labels, *em);
-  auto corners = patch_corners(seg.refined.mesh, seg.labels, seg.meta, h, turns, log.failure);
-  log.embed_seconds = seconds_since(t0);
-  if (corners) out.corners = std::move(*corners);
+  const TraceTurns turns(seg.refined.mesh, seg.labels, *em, tr.partial_nodes);
+  out.corners = patch_corners(seg.refined.mesh, seg.labels, seg.meta, h, turns, repaired);
+  log.free_corner_patches =
+      uint32_t(std::count(out.corners.begin(), out.corners.end(), kFreeCorners));
+  log.embed_seconds += seconds_since(t0);
   return out;
 }
 

@@ -12,22 +12,30 @@
 
 #include "field/cross_field.hpp"
 #include "field/trace.hpp"
+#include "layout/layout.hpp"
 #include "seg/segment.hpp"
 
 namespace isoquad {
 
 struct FieldLayoutLog {
-  uint32_t singularities = 0;      // singular vertices of the field
-  uint32_t nodes = 0, traces = 0;  // emitters and their traces
-  uint32_t t_junctions = 0;        // traces ending on another trace
+  uint32_t singularities = 0;        // singular vertices of the field
+  uint32_t nodes = 0, traces = 0;    // emitters and their traces
+  uint32_t t_junctions = 0;          // traces ending on another trace
+  uint32_t connections = 0;          // separatrices from node to node, laid first
+  uint32_t deleted = 0, rounds = 0;  // traces deleted beside parallel tracks; graphs traced
+  uint32_t seeds = 0;                // seed vertices for patches the traces left not disks
   uint32_t patches = 0;
+  // Patches the traces leave without four corners, or that the disk repair (seg/disk_patches)
+  // had to split, merge or relabel: their corners are left to the layout's corner program.
+  uint32_t repaired_patches = 0, free_corner_patches = 0;
   double field_seconds = 0, trace_seconds = 0, embed_seconds = 0;
   std::string failure;  // why the layout cannot be used (empty: it can)
 };
 
 struct FieldSegmentation {
   SegmentResult seg;
-  // Per patch, the cycle items (MetaFace::cycle indices, increasing) that are its corners.
+  // Per patch, the cycle items (MetaFace::cycle indices, increasing) that are its corners;
+  // kFreeCorners where the traces do not say (layout/ chooses them).
   std::vector<std::array<uint32_t, 4>> corners;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <queue>
+#include <unordered_map>
 
 namespace isoquad {
 
@@ -170,6 +171,9 @@ struct Tracer {
   };
   std::vector<State> state;
   TraceResult result;
+  // False: every trace runs as if alone (no crossing, no head-on join), to see where its
+  // separatrix goes.
+  bool interact = true;
 
   Tracer(const CrossField& field, double cap_length)
       : cf(field),
@@ -180,7 +184,11 @@ struct Tracer {
 
   SurfacePoint surface_point(uint32_t f, P2 p) const { return {f, charts.bary(f, p)}; }
 
-  void start(const Ray& r) {
+  Vec3 position(uint32_t f, P2 p) const {
+    return m.position(m.face(f)[0]) + p.x * cf.frames.x[f] + p.y * cf.frames.y[f];
+  }
+
+  uint32_t start(const Ray& r) {
     Trace t;
     t.source = r.vertex;
     t.first_face = r.face;
@@ -195,6 +203,7 @@ struct Tracer {
     st.point = charts.corner[r.face][i];
     st.arm = r.arm;
     state.push_back(st);
+    return uint32_t(state.size() - 1);
   }
 
   // Halfedge h at fraction s from its start, as a point of h's edge.
@@ -363,10 +372,10 @@ struct Tracer {
       return false;
     }
     const P2 q = st.point + t * d;
-    if (head_on(id, f, st.point, d)) return false;
+    if (interact && head_on(id, f, st.point, d)) return false;
     double t_stop = 0;
     uint32_t on = kInvalid;
-    if (crossing(id, f, st.point, q, st.arc, t_stop, on)) {
+    if (interact && crossing(id, f, st.point, q, st.arc, t_stop, on)) {
       result.traces[id].length = st.arc + t_stop * t;
       finish(id, f, st.point + (t_stop * t) * d, {kInvalid, 0}, TraceEnd::track, on);
       return false;
@@ -417,6 +426,19 @@ struct Tracer {
     return true;
   }
 
+  // Lays a finished trace down before the others run (a connection between two nodes): every
+  // trace that reaches it stops there.
+  template <class Piece>
+  void lay(uint32_t id, Trace trace, const std::vector<Piece>& pieces) {
+    for (const Piece& pc : pieces) {
+      segments.push_back({id, pc.from, pc.to, -INFINITY});
+      face_segments[pc.face].push_back(uint32_t(segments.size() - 1));
+    }
+    result.traces[id] = std::move(trace);
+    state[id].alive = false;
+    ++result.connections;
+  }
+
   void run() {
     using Item = std::pair<double, uint32_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
@@ -429,6 +451,330 @@ struct Tracer {
     }
   }
 };
+
+// A separatrix from one node into another (FIELD_LAYOUT.md §3 rule 3): the two ends of one
+// streamline of the field, which traced from both ends would pass each other a triangle or two
+// apart and leave a sliver between them. Laid before the motorcycle graph runs, so every other
+// trace stops on it.
+struct Connection {
+  uint32_t ray_a = 0, ray_b = 0;  // the ray traced, and the ray of the node it reaches
+  Trace trace;
+  struct Piece {
+    uint32_t face;
+    P2 from, to;
+  };
+  std::vector<Piece> pieces;  // per face crossed, in that face's chart
+};
+
+// Nodes near a point, on a grid of cells the capture radius wide.
+class NodeGrid {
+ public:
+  NodeGrid(const TriMesh& m, const std::vector<uint32_t>& nodes, double cell) : m_(m), cell_(cell) {
+    for (uint32_t n = 0; n < nodes.size(); ++n)
+      cells_[key(cell_of(m.position(nodes[n])))].push_back(n);
+  }
+
+  // Nodes within `radius` (≤ the cell) of segment a-b may lie in any cell its box touches.
+  template <class F>
+  void near(const Vec3& a, const Vec3& b, F&& visit) const {
+    const auto lo = cell_of(Vec3{std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)});
+    const auto hi = cell_of(Vec3{std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)});
+    for (int64_t i = lo[0] - 1; i <= hi[0] + 1; ++i)
+      for (int64_t j = lo[1] - 1; j <= hi[1] + 1; ++j)
+        for (int64_t k = lo[2] - 1; k <= hi[2] + 1; ++k)
+          if (const auto it = cells_.find(key({i, j, k})); it != cells_.end())
+            for (uint32_t n : it->second) visit(n);
+  }
+
+ private:
+  std::array<int64_t, 3> cell_of(const Vec3& p) const {
+    return {int64_t(std::floor(p.x / cell_)), int64_t(std::floor(p.y / cell_)),
+            int64_t(std::floor(p.z / cell_))};
+  }
+  static uint64_t key(const std::array<int64_t, 3>& c) {
+    return (uint64_t(c[0]) * 73856093u) ^ (uint64_t(c[1]) * 19349663u) ^
+           (uint64_t(c[2]) * 83492791u);
+  }
+  const TriMesh& m_;
+  double cell_;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+};
+
+// Whether two pieces in one face's chart cross (touching at an end does not count).
+bool pieces_cross(P2 a, P2 b, P2 c, P2 d) {
+  const P2 r = b - a, e = d - c;
+  const double den = cross(r, e);
+  if (den == 0) return false;
+  const double t = cross(c - a, e) / den, u = cross(c - a, r) / den;
+  constexpr double kEnd = 1e-9;
+  return t > kEnd && t < 1 - kEnd && u > kEnd && u < 1 - kEnd;
+}
+
+// Traces every ray alone and, where it first passes within `radius` of a node coming in along one
+// of the node's rays, steers it into that node over the last stretch. The connections found,
+// shortest first, are kept where neither ray is taken yet and they cross no kept connection.
+std::vector<Connection> find_connections(const CrossField& cf, const std::vector<Ray>& rays,
+                                         const std::vector<uint32_t>& ray_node,
+                                         const std::vector<uint32_t>& nodes, double radius,
+                                         double cap) {
+  const TriMesh& m = cf.surface;
+  Tracer free(cf, cap);
+  free.interact = false;
+  const NodeGrid grid(m, nodes, radius);
+  std::vector<std::vector<uint32_t>> node_rays(nodes.size());
+  std::vector<Vec3> ray_dir(rays.size());
+  for (uint32_t r = 0; r < rays.size(); ++r) {
+    node_rays[ray_node[r]].push_back(r);
+    ray_dir[r] = cf.frames.direction(rays[r].face, cf.angle[rays[r].face] + rays[r].arm * kPi / 2);
+  }
+  const double from_behind = std::cos(kPi / 9), head_on = std::cos(kPi / 12);
+  std::vector<Connection> found;
+  for (uint32_t a = 0; a < rays.size(); ++a) {
+    const uint32_t id = free.start(rays[a]);
+    const std::size_t first_segment = free.segments.size();
+    uint32_t target = kInvalid, ray_b = kInvalid;
+    Vec3 along;
+    while (target == kInvalid && free.state[id].alive) {
+      const std::size_t before = free.segments.size();
+      free.step(id);
+      for (std::size_t sid = before; sid < free.segments.size() && target == kInvalid; ++sid) {
+        const Segment& sg = free.segments[sid];
+        const uint32_t f = free.result.traces[id].faces[sid - first_segment];
+        const Vec3 p = free.position(f, sg.from), q = free.position(f, sg.to);
+        const Vec3 pq = q - p;
+        const double len2 = dot(pq, pq);
+        if (!(len2 > 0)) continue;
+        const Vec3 dir = pq / std::sqrt(len2);
+        double nearest = radius;
+        grid.near(p, q, [&](uint32_t n) {
+          const Vec3 x = m.position(nodes[n]);
+          const double t = std::clamp(dot(x - p, pq) / len2, 0.0, 1.0);
+          const double dist = norm(p + t * pq - x);
+          if (dist >= nearest) return;
+          // Back at its own node only after going round something (a loop), by another ray.
+          if (n == ray_node[a] && sg.arc + t * std::sqrt(len2) < 4 * radius) return;
+          // It comes in along ray b if, seen from the node, where it was twice the radius
+          // before lies within 20 degrees of b: near a node the field turns fast, so its own
+          // direction there says less than where it came from.
+          const double arc = sg.arc + t * std::sqrt(len2);
+          std::size_t k = sid;
+          while (k > first_segment && free.segments[k].arc > arc - 2 * radius) --k;
+          const Vec3 back =
+              free.position(free.result.traces[id].faces[k - first_segment], free.segments[k].from);
+          const Vec3 w = back - x;
+          const double wn = norm(w);
+          if (!(wn > 0)) return;
+          // Or if its own direction there is within 15 degrees of b's, reversed.
+          double best = 0;
+          for (uint32_t b : node_rays[n]) {
+            if (b == a || dot(dir, ray_dir[b]) >= 0) continue;
+            const double c =
+                std::max(dot(w, ray_dir[b]) / wn - from_behind, -dot(dir, ray_dir[b]) - head_on);
+            if (c <= best) continue;
+            best = c, nearest = dist, target = n, ray_b = b, along = dir;
+          }
+        });
+      }
+    }
+    if (target == kInvalid) continue;
+    // Join where the node is still well ahead (twice as far along as aside), so the steered
+    // stretch bends the trace by at most 27 degrees.
+    const Trace& t = free.result.traces[id];
+    const Vec3 x = m.position(nodes[target]);
+    std::size_t j = 0;
+    for (std::size_t k = t.faces.size(); k-- > 1;) {
+      const Vec3 w = x - position_on(m, t.points[k]);
+      const double ahead = dot(w, along);
+      if (ahead >= 0 && ahead >= 2 * norm(w - ahead * along)) {
+        j = k;
+        break;
+      }
+    }
+    Connection c;
+    c.ray_a = a;
+    c.ray_b = ray_b;
+    c.trace.source = t.source;
+    c.trace.first_face = t.first_face;
+    c.trace.first_arm = t.first_arm;
+    c.trace.points.assign(t.points.begin(), t.points.begin() + std::ptrdiff_t(j + 1));
+    c.trace.on_edge.assign(t.on_edge.begin(), t.on_edge.begin() + std::ptrdiff_t(j + 1));
+    c.trace.faces.assign(t.faces.begin(), t.faces.begin() + std::ptrdiff_t(j));
+    for (std::size_t k = 0; k < j; ++k) {
+      const Segment& sg = free.segments[first_segment + k];
+      c.pieces.push_back({t.faces[k], sg.from, sg.to});
+      c.trace.length += length(sg.to - sg.from);
+    }
+    // Steered: in each face straight towards the node, until a face has it as a corner.
+    uint32_t f = t.faces[j], entry = kInvalid;
+    P2 p = free.segments[first_segment + j].from;
+    if (j > 0)
+      for (uint32_t i = 0; i < 3; ++i)
+        if (m.edge(3 * f + i) == t.on_edge[j].edge) entry = 3 * f + i;
+    const uint32_t v = nodes[target];
+    bool reached = false;
+    for (int guard = 0; guard < 256 && !reached; ++guard) {
+      const Tri& tri = m.face(f);
+      if (const auto* at = std::find(tri.begin(), tri.end(), v); at != tri.end()) {
+        const P2 q = free.charts.corner[f][at - tri.begin()];
+        c.pieces.push_back({f, p, q});
+        c.trace.length += length(q - p);
+        c.trace.faces.push_back(f);
+        c.trace.points.push_back(free.surface_point(f, q));
+        c.trace.on_edge.push_back({kInvalid, 0});
+        reached = true;
+        break;
+      }
+      const Vec3 w = x - free.position(f, p);
+      const P2 d{dot(w, cf.frames.x[f]), dot(w, cf.frames.y[f])};
+      uint32_t h = kInvalid;
+      double step = 0, s = 0;
+      if (!free.exit(f, p, d, entry, entry == kInvalid, h, step, s)) break;
+      if (m.twin(h) == kInvalid || cf.feature[m.edge(h)]) break;
+      const P2 q = p + step * d;
+      c.pieces.push_back({f, p, q});
+      c.trace.length += length(q - p);
+      c.trace.faces.push_back(f);
+      c.trace.points.push_back(free.surface_point(f, q));
+      c.trace.on_edge.push_back(free.edge_point(h, s));
+      const uint32_t tw = m.twin(h), g = TriMesh::face_of(tw);
+      const auto& cg = free.charts.corner[g];
+      const P2 ga = cg[tw % 3], gb = cg[(tw % 3 + 1) % 3];
+      p = ga + (1 - s) * (gb - ga);
+      f = g;
+      entry = tw;
+    }
+    if (!reached) continue;
+    c.trace.end = TraceEnd::node;
+    c.trace.end_vertex = v;
+    found.push_back(std::move(c));
+  }
+  // Shortest first; each ray in one connection at most; connections cross no other.
+  std::vector<uint32_t> order(found.size());
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
+    return found[x].trace.length < found[y].trace.length ||
+           (found[x].trace.length == found[y].trace.length && found[x].ray_a < found[y].ray_a);
+  });
+  std::vector<char> taken(rays.size(), 0);
+  std::vector<std::vector<std::pair<P2, P2>>> laid(m.num_faces());
+  std::vector<Connection> kept;
+  for (uint32_t i : order) {
+    Connection& c = found[i];
+    if (taken[c.ray_a] || taken[c.ray_b]) continue;
+    const bool crosses = std::any_of(c.pieces.begin(), c.pieces.end(), [&](const auto& pc) {
+      return std::any_of(laid[pc.face].begin(), laid[pc.face].end(), [&](const auto& other) {
+        return pieces_cross(pc.from, pc.to, other.first, other.second);
+      });
+    });
+    if (crosses) continue;
+    taken[c.ray_a] = taken[c.ray_b] = 1;
+    for (const auto& pc : c.pieces) laid[pc.face].push_back({pc.from, pc.to});
+    kept.push_back(std::move(c));
+  }
+  return kept;
+}
+
+struct Strips {
+  std::vector<uint32_t> drop;                 // traces to delete, first the most urgent
+  std::vector<std::vector<uint32_t>> beside;  // per trace, the traces it runs beside
+};
+
+// The traces that found no end, and those that run closer than `width` beside a parallel track
+// (within 20 degrees) along at least half of their length: another trace, a feature, the
+// boundary, or the trace itself further on (a spiral).
+Strips strip_traces(const Tracer& tracer, const TraceResult& result, double width) {
+  const TriMesh& m = tracer.m;
+  struct Piece {
+    Vec3 p, q;
+    uint32_t trace;  // kInvalid: a feature or boundary edge
+    double arc;
+  };
+  std::vector<Piece> pieces;
+  std::vector<std::vector<uint32_t>> of_trace(result.traces.size());
+  for (uint32_t f = 0; f < m.num_faces(); ++f)
+    for (uint32_t sid : tracer.face_segments[f]) {
+      const Segment& sg = tracer.segments[sid];
+      of_trace[sg.trace].push_back(uint32_t(pieces.size()));
+      pieces.push_back({tracer.position(f, sg.from), tracer.position(f, sg.to), sg.trace,
+                        std::isfinite(sg.arc) ? sg.arc : 0.0});
+    }
+  for (uint32_t e = 0; e < m.num_edges(); ++e) {
+    const uint32_t h = m.edge_halfedge(e);
+    if (m.twin(h) == kInvalid || tracer.cf.feature[e])
+      pieces.push_back({m.position(m.from(h)), m.position(m.to(h)), kInvalid, 0});
+  }
+  std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
+  auto cell = [&](const Vec3& x) {
+    return std::array<int64_t, 3>{int64_t(std::floor(x.x / width)),
+                                  int64_t(std::floor(x.y / width)),
+                                  int64_t(std::floor(x.z / width))};
+  };
+  auto key = [](int64_t i, int64_t j, int64_t k) {
+    return (uint64_t(i) * 73856093u) ^ (uint64_t(j) * 19349663u) ^ (uint64_t(k) * 83492791u);
+  };
+  for (uint32_t i = 0; i < pieces.size(); ++i) {
+    // A piece longer than a few cells (a coarse mesh) is filed in the cells of its samples.
+    const double len = norm(pieces[i].q - pieces[i].p);
+    const int samples = std::min(64, 1 + int(len / width));
+    std::vector<uint64_t> keys;
+    for (int sidx = 0; sidx <= samples; ++sidx) {
+      const auto c = cell(pieces[i].p + (double(sidx) / samples) * (pieces[i].q - pieces[i].p));
+      keys.push_back(key(c[0], c[1], c[2]));
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    for (uint64_t k : keys) grid[k].push_back(i);
+  }
+  const double parallel = std::cos(kPi / 9);
+  Strips out;
+  out.beside.resize(result.traces.size());
+  std::vector<std::pair<double, uint32_t>> ranked;  // (urgency, trace)
+  for (uint32_t id = 0; id < result.traces.size(); ++id) {
+    const Trace& t = result.traces[id];
+    if (t.end == TraceEnd::cap || t.end == TraceEnd::sink) {
+      ranked.push_back({2.0, id});
+      continue;
+    }
+    if (t.end == TraceEnd::node || !(t.length > 0)) continue;  // connections stay
+    double beside = 0;
+    for (uint32_t i : of_trace[id]) {
+      const Piece& pc = pieces[i];
+      const Vec3 d = pc.q - pc.p;
+      const double len = norm(d);
+      if (!(len > 0)) continue;
+      const Vec3 dir = d / len, mid = 0.5 * (pc.p + pc.q);
+      const auto c = cell(mid);
+      bool found = false;
+      for (int64_t a = c[0] - 1; a <= c[0] + 1; ++a)
+        for (int64_t b = c[1] - 1; b <= c[1] + 1; ++b)
+          for (int64_t k = c[2] - 1; k <= c[2] + 1; ++k) {
+            const auto it = grid.find(key(a, b, k));
+            if (it == grid.end()) continue;
+            for (uint32_t j : it->second) {
+              const Piece& o = pieces[j];
+              if (o.trace == id && std::abs(o.arc - pc.arc) < 4 * width) continue;
+              const Vec3 e = o.q - o.p;
+              const double elen2 = dot(e, e);
+              if (!(elen2 > 0) || std::abs(dot(e, dir)) < parallel * std::sqrt(elen2)) continue;
+              const double s = std::clamp(dot(mid - o.p, e) / elen2, 0.0, 1.0);
+              if (norm(o.p + s * e - mid) >= width) continue;
+              found = true;
+              if (o.trace != kInvalid && o.trace != id &&
+                  std::find(out.beside[id].begin(), out.beside[id].end(), o.trace) ==
+                      out.beside[id].end())
+                out.beside[id].push_back(o.trace);
+            }
+          }
+      if (found) beside += len;
+    }
+    if (beside >= 0.5 * t.length) ranked.push_back({beside / t.length, id});
+  }
+  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
+  for (const auto& [urgency, id] : ranked) out.drop.push_back(id);
+  return out;
+}
 
 }  // namespace
 
@@ -445,27 +791,96 @@ TraceResult trace_separatrices(const CrossField& cf, const TraceOptions& options
   const double cap = options.edge_length > 0
                          ? std::min(200 * options.edge_length, 4 * std::sqrt(area))
                          : 4 * std::sqrt(area);
-  Tracer tracer(cf, cap);
+  const Charts charts(m, cf.frames);
+  std::vector<uint32_t> nodes;
+  std::vector<char> interior;
+  uint32_t mismatches = 0;
   VertexData<char> singular(m.num_vertices(), 0);
   for (uint32_t v : cf.singular) singular[v] = 1;
+  VertexData<char> seed(m.num_vertices(), 0);
+  for (uint32_t v : options.seeds) seed[v] = 1;
+  std::vector<Ray> rays;
+  std::vector<uint32_t> ray_node;
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {
     bool on_constraint = false;
     m.for_each_outgoing(v, [&](uint32_t h) {
       on_constraint =
           on_constraint || is_constraint(cf, m, h) || m.twin(TriMesh::prev(h)) == kInvalid;
     });
-    const bool node = on_constraint ? singular[v] || is_constraint_node(cf, m, v) : singular[v];
+    const bool node =
+        on_constraint ? singular[v] || is_constraint_node(cf, m, v) : singular[v] || seed[v];
     if (!node) continue;
-    std::vector<Ray> rays = rays_at(cf, tracer.charts, m, v);
-    if (!on_constraint) merge_extra_rays(cf, tracer.charts, m, v, 4 - cf.index4[v], rays);
-    if (!on_constraint && rays.size() != std::size_t(4 - cf.index4[v]))
-      ++tracer.result.ray_mismatches;
-    if (rays.empty()) continue;
-    tracer.result.nodes.push_back(v);
-    for (const Ray& r : rays) tracer.start(r);
+    std::vector<Ray> at = rays_at(cf, charts, m, v);
+    if (!on_constraint) merge_extra_rays(cf, charts, m, v, 4 - cf.index4[v], at);
+    if (!on_constraint && at.size() != std::size_t(4 - cf.index4[v])) ++mismatches;
+    if (at.empty()) continue;
+    for (const Ray& r : at) {
+      rays.push_back(r);
+      ray_node.push_back(uint32_t(nodes.size()));
+    }
+    nodes.push_back(v);
+    interior.push_back(!on_constraint);
   }
-  tracer.run();
-  return std::move(tracer.result);
+  std::vector<Connection> connections;
+  if (options.capture > 0 && options.edge_length > 0)
+    connections =
+        find_connections(cf, rays, ray_node, nodes, options.capture * options.edge_length, cap);
+  // A ray a connection reaches is that connection: not traced on its own.
+  std::vector<char> reached(rays.size(), 0), fixed(rays.size(), 0), deleted(rays.size(), 0);
+  for (const Connection& c : connections) reached[c.ray_b] = fixed[c.ray_a] = 1;
+  TraceResult result;
+  for (uint32_t round = 0;; ++round) {
+    Tracer tracer(cf, cap);
+    std::vector<uint32_t> id_of(rays.size(), kInvalid), ray_of;
+    for (uint32_t r = 0; r < rays.size(); ++r)
+      if (!reached[r] && !deleted[r]) {
+        id_of[r] = tracer.start(rays[r]);
+        ray_of.push_back(r);
+      }
+    for (const Connection& c : connections) tracer.lay(id_of[c.ray_a], Trace(c.trace), c.pieces);
+    tracer.run();
+    tracer.result.nodes = nodes;
+    tracer.result.ray_mismatches = mismatches;
+    tracer.result.rounds = round + 1;
+    result = std::move(tracer.result);
+    if (round + 1 >= options.rounds || options.strip <= 0 || options.edge_length <= 0) break;
+    const Strips strips = strip_traces(tracer, result, options.strip * options.edge_length);
+    // Delete where no two neighbouring rays of a node end up deleted (a sector of three quarter
+    // turns has no place in a quad layout); traces that bound a strip together lose one.
+    bool any = false;
+    std::vector<char> partner_gone(result.traces.size(), 0);
+    for (uint32_t id : strips.drop) {
+      const uint32_t r = ray_of[id];
+      if (fixed[r] || partner_gone[id]) continue;
+      const uint32_t n = ray_node[r];
+      uint32_t first = r, last = r;
+      while (first > 0 && ray_node[first - 1] == n) --first;
+      while (last + 1 < rays.size() && ray_node[last + 1] == n) ++last;
+      const uint32_t count = last - first + 1;
+      auto neighbour = [&](int step) -> uint32_t {
+        if (!interior[n]) {
+          const int64_t k = int64_t(r) + step;
+          return k < int64_t(first) || k > int64_t(last) ? kInvalid : uint32_t(k);
+        }
+        return first + uint32_t((int64_t(r - first) + step + count) % count);
+      };
+      const uint32_t before = neighbour(-1), after = neighbour(1);
+      if ((before != kInvalid && deleted[before]) || (after != kInvalid && deleted[after]))
+        continue;
+      deleted[r] = 1;
+      any = true;
+      for (uint32_t other : strips.beside[id]) partner_gone[other] = 1;
+    }
+    if (!any) break;
+  }
+  for (uint32_t r = 0; r < rays.size(); ++r) {
+    if (!deleted[r]) continue;
+    ++result.deleted;
+    const uint32_t v = nodes[ray_node[r]];
+    if (result.partial_nodes.empty() || result.partial_nodes.back() != v)
+      result.partial_nodes.push_back(v);
+  }
+  return result;
 }
 
 }  // namespace isoquad

@@ -16,6 +16,21 @@ namespace isoquad {
 
 struct TraceOptions {
   double edge_length = 0;  // h (mesh units); a trace is capped at min(200 h, 4 sqrt(area))
+  // A separatrix passing within capture * h of another node, coming in along one of that
+  // node's rays (within 20 degrees, seen from the node), is taken to be that ray's separatrix too:
+  // it ends at the node, and the node does not trace that ray (FIELD_LAYOUT.md §3 rule 3). 0: no
+  // capture.
+  double capture = 0.5;
+  // A trace that runs beside a parallel track (another trace, itself further on, a feature or
+  // the boundary) closer than strip * h along at least half of its length, or that finds no
+  // end, is deleted and the graph traced again without it (§3 rule 4, §5), for up to `rounds`
+  // rounds: it would bound a strip thinner than a quad.
+  double strip = 0.5;
+  uint32_t rounds = 6;
+  // Regular interior vertices that emit the field's four rays as well (FIELD_LAYOUT.md §4): in
+  // a patch no trace makes a disk (a handle, a tube), their traces close loops around it or
+  // run from one seed to the other.
+  std::vector<uint32_t> seeds;
 };
 
 enum class TraceEnd {
@@ -24,6 +39,7 @@ enum class TraceEnd {
   track,     // on another trace (or itself): a T-junction
   cap,       // longer than the cap: a limit cycle or a spiral
   sink,      // the field turns back at an edge, and so does the trace's own direction
+  node,      // at another node it passed close to, along one of that node's rays (a connection)
 };
 
 struct Trace {
@@ -34,13 +50,14 @@ struct Trace {
   // and points[i + 1] lie in faces[i].
   std::vector<SurfacePoint> points;
   // Per point, the edge it lies on and its fraction from the start of the edge's halfedge
-  // (EdgePoint, refined_mesh.hpp); edge kInvalid for the source vertex and for an end inside a
-  // face (on another trace).
+  // (EdgePoint, refined_mesh.hpp); edge kInvalid for the source vertex, for an end inside a
+  // face (on another trace) and for an end at a node (TraceEnd::node).
   std::vector<EdgePoint> on_edge;
   std::vector<uint32_t> faces;
   TraceEnd end = TraceEnd::cap;
-  uint32_t end_trace = kInvalid;  // the trace it stopped on (TraceEnd::track)
-  double length = 0;              // on the field's surface
+  uint32_t end_trace = kInvalid;   // the trace it stopped on (TraceEnd::track)
+  uint32_t end_vertex = kInvalid;  // the node it ends at (TraceEnd::node)
+  double length = 0;               // on the field's surface
 };
 
 struct TraceResult {
@@ -52,6 +69,11 @@ struct TraceResult {
   uint32_t truncated = 0;           // traces cut back where a later arrival had crossed them first
   uint32_t straight_crossings = 0;  // faces crossed straight on past a sink edge
   uint32_t head_on = 0;             // separatrices traced from both ends, joined where they met
+  uint32_t connections = 0;         // separatrices joining two nodes, laid before the others
+  uint32_t deleted = 0;             // rays not traced: their traces ran beside another track
+  uint32_t rounds = 0;              // motorcycle graphs traced
+  // Nodes with a deleted ray: there, two sectors are one, which turns by two quarters.
+  std::vector<uint32_t> partial_nodes;
 };
 
 // The rays every node emits and their traces. Nodes: singular interior vertices (4 - 4I rays),

@@ -85,13 +85,18 @@ void to_json(nlohmann::json& j, const QualityReport& q) {
        {"topology", q.topology},
        {"interior_valence", valence},
        {"irregular_vertices", q.irregular},
+       // Against each quad's own (Newell) normal; at_most_0.001: not valid.
        {"scaled_jacobian",
         {{"min", q.sj_min},
          {"mean", q.sj_mean},
          {"percent_below_0.5", q.sj_below_half},
+         {"at_most_0.001", q.sj_invalid},
          {"nonpositive", q.sj_nonpositive}}},
        {"angle_deviation_deg", {{"mean", q.angle_deviation_mean}, {"max", q.angle_deviation_max}}},
-       {"edge_length", {{"mean", q.edge_mean}, {"cv", q.edge_cv}}}};
+       {"edge_length", {{"mean", q.edge_mean}, {"cv", q.edge_cv}}},
+       {"aspect_ratio",
+        {{"mean", q.aspect_mean}, {"p95", q.aspect_p95}, {"percent_above_2", q.aspect_above_2}}},
+       {"area", {{"cv", q.area_cv}}}};
   if (q.has_reference) {
     j["reference_topology"] = *q.reference_topology;
     j["same_topology"] = q.same_topology;
@@ -99,6 +104,9 @@ void to_json(nlohmann::json& j, const QualityReport& q) {
                                     {"nonpositive", q.sj_surface_nonpositive}};
     j["hausdorff"] = q.hausdorff;
     j["mean_distance"] = q.mean_distance;
+    j["feature_coverage"] = {{"angle_deg", q.feature_angle_deg},
+                             {"length", q.feature_length},
+                             {"covered", q.feature_coverage}};
     j["hausdorff_at"] = {{"point", {q.hausdorff_at.x, q.hausdorff_at.y, q.hausdorff_at.z}},
                          {"on", q.hausdorff_on_input ? "input" : "quads"}};
   }

@@ -101,8 +101,26 @@ std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uin
                                          LayoutReport& report, std::vector<uint32_t>& zero) {
   if (o.given_corners) {
     Feasible f;
-    f.corners.corners = *o.given_corners;
-    f.corners.chosen.assign(meta.faces.size(), 0);
+    const auto& given = *o.given_corners;
+    if (std::find(given.begin(), given.end(), kFreeCorners) != given.end()) {
+      // The free patches choose among their candidates, the others keep what they were given,
+      // in one exact corner ILP that also asks for positive lengths.
+      auto cands = corner_candidates(mesh, labels, meta, o.angle_weight, 4 * o.candidates_per_patch,
+                                     unit, o.flat_corner_penalty, o.flat_crease_corner_penalty);
+      for (uint32_t p = 0; p < given.size(); ++p)
+        if (given[p] != kFreeCorners) cands[p] = {CornerCandidate{given[p], 0.0}};
+      try {
+        f.corners = choose_corners(mesh, meta, cands, o, true);
+      } catch (const Error& e) {
+        if (e.code() != "E401") throw;
+        return std::nullopt;
+      }
+      ++report.corner_rounds;
+      report.corner_seconds += f.corners.seconds;
+    } else {
+      f.corners.corners = given;
+      f.corners.chosen.assign(meta.faces.size(), 0);
+    }
     f.corners.quarter_turns = quarter_turns(meta, f.corners.corners);
     f.sides = item_sides(meta, f.corners.corners);
     f.rows = side_equations(meta, f.sides);
@@ -490,7 +508,8 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
                     const EdgeData<char>& feature, MetaMesh& meta, const LayoutOptions& o,
                     LayoutReport& report) {
   const bool by_count = o.edge_length <= 0;
-  const double wanted = o.quads > 0 ? o.quads : default_quad_count(mesh);
+  const double wanted =
+      o.quads > 0 ? o.quads : default_quad_count(mesh.num_faces(), o.default_share);
   double h = by_count ? edge_length_for_quads(mesh, wanted) : o.edge_length;
   std::optional<Feasible> f;
   for (int insertion = 0; insertion < 4 && !f; ++insertion) {
@@ -511,7 +530,9 @@ Layout solve_layout(const TriMesh& mesh, const FaceData<uint32_t>& labels,
   layout.quarter_turns = f->corners.quarter_turns;
   uint32_t tiny = 0;
   for (const MetaEdge& e : meta.edges) tiny += e.geodesic / h < 0.5;
-  if (4 * tiny > meta.edges.size())
+  // Traced layouts have short meta-edges wherever a trace stops near a node: the traces were
+  // made at this h, so it is not too large for them.
+  if (!o.given_corners && 4 * tiny > meta.edges.size())
     throw Error(ErrorKind::layout, "E501",
                 fmt::format("target edge length too large: {} of {} meta-edges are shorter than "
                             "half of it; use a smaller --edge-length, more --quads or fewer "
@@ -609,7 +630,9 @@ std::optional<Layout> relayout_lengths(const TriMesh& mesh, const FaceData<uint3
   Layout layout;
   layout.quarter_turns = base.quarter_turns;
   const bool by_count = o.edge_length <= 0;
-  const double wanted = std::max(o.quads > 0 ? o.quads : default_quad_count(mesh), base.quads_aim);
+  const double wanted =
+      std::max(o.quads > 0 ? o.quads : default_quad_count(mesh.num_faces(), o.default_share),
+               base.quads_aim);
   layout.quads_aim = wanted;
   // The held sides add quads; a slightly larger h takes some back elsewhere, but not so much
   // that the rest of the mesh coarsens (with every patch four-sided on fandisk, an unbounded h

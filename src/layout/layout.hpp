@@ -46,6 +46,9 @@ enum class LengthSolver { cbc, flow };  // flow: LEMON when the system is a netw
 struct LayoutOptions {
   double edge_length = 0;  // target h (mesh units); 0: from `quads`
   double quads = 0;        // target quad count; the size is tuned to land within 10%
+  // With neither: the default count on the layout's surface, for a component that covers this
+  // share of the input's area (pipeline/sizing.hpp default_quad_count).
+  double default_share = 1;
   CornerMode corners = CornerMode::global;
   LengthSolver length_solver = LengthSolver::cbc;
   double angle_weight = 0.5;    // beta in the corner cost (0: paper's length-only cost)
@@ -81,10 +84,14 @@ struct LayoutOptions {
   double area_dimension_threshold = 2;
   double time_limit = 10;  // seconds per ILP
   // Per patch, its corners as MetaFace::cycle indices (increasing), taken as they are: no
-  // candidates, no corner ILP, no refinement (the field-aligned layout knows them). If they do
-  // not admit positive lengths, the layout fails with E402.
+  // refinement, and candidates and the corner ILP only for the patches given kFreeCorners (the
+  // field-aligned layout knows the others). If they do not admit positive lengths, the layout
+  // fails with E402.
   const std::vector<std::array<uint32_t, 4>>* given_corners = nullptr;
 };
+
+// In LayoutOptions::given_corners: a patch whose corners the corner program chooses.
+inline constexpr std::array<uint32_t, 4> kFreeCorners{kInvalid, kInvalid, kInvalid, kInvalid};
 
 struct LayoutReport {
   std::vector<std::string> repairs;  // what was done to make the layout feasible

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <random>
 #include <unordered_map>
+#include <unordered_set>
 
 #include <tbb/parallel_for.h>
 
@@ -12,6 +13,7 @@
 #include "core/union_find.hpp"
 #include "core/z_order.hpp"
 #include "metrics/aabb_tree.hpp"
+#include "metrics/feature_coverage.hpp"
 
 namespace isoquad {
 
@@ -35,10 +37,13 @@ struct FaceShape {
   double sj = INFINITY;          // against the face's Newell normal
   double sj_surface = INFINITY;  // against the reference's normal at each corner
   double angle_deviation_sum = 0, angle_deviation_max = 0;  // |corner angle - 90| in degrees
+  double aspect = 0;  // of a 4-sided face (QualityReport::aspect_mean)
+  double area = 0;    // the vector area: half the Newell vector's length
 };
 
 // The shape of the polygon whose i-th corner is at(i), of n corners. Its scaled Jacobian is the
-// minimum over its corners of n . (e1 x e2)/(|e1||e2|), n the Newell normal.
+// minimum over its corners of n . (e1 x e2)/(|e1||e2|), n the Newell normal: 0 at a corner of
+// 180 degrees up to rounding, which kMinValidScaledJacobian counts as invalid with the folds.
 template <class Corner>
 FaceShape polygon_shape(std::size_t count, Corner at, const AabbTree* reference) {
   Vec3 n;
@@ -47,8 +52,15 @@ FaceShape polygon_shape(std::size_t count, Corner at, const AabbTree* reference)
     const Vec3& b = at((i + 1) % count);
     n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
   }
-  n = normalized(n);
   FaceShape s;
+  s.area = 0.5 * norm(n);
+  n = normalized(n);
+  if (count == 4) {
+    double side[4];
+    for (std::size_t i = 0; i < 4; ++i) side[i] = norm(at((i + 1) % 4) - at(i));
+    const double a = 0.5 * (side[0] + side[2]), b = 0.5 * (side[1] + side[3]);
+    s.aspect = std::min(a, b) > 0 ? std::max(a, b) / std::min(a, b) : INFINITY;
+  }
   for (std::size_t i = 0; i < count; ++i) {
     const Vec3& p = at(i);
     const Vec3 e1 = at((i + 1) % count) - p;
@@ -147,6 +159,86 @@ void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTr
     sum_d += d[i];
     ++count;
   }
+}
+
+double mean_of(const std::vector<double>& x) {
+  double sum = 0;
+  for (const double v : x) sum += v;
+  return x.empty() ? 0.0 : sum / double(x.size());
+}
+
+// Standard deviation over the mean (0 for no values or a mean of 0), in two passes: exactly 0
+// for equal values.
+double coefficient_of_variation(const std::vector<double>& x) {
+  const double mean = mean_of(x);
+  if (!(mean > 0)) return 0;
+  double sum2 = 0;
+  for (const double v : x) sum2 += (v - mean) * (v - mean);
+  return std::sqrt(sum2 / double(x.size())) / mean;
+}
+
+// Every edge of the polygons once, in the order of first use.
+std::vector<std::array<Vec3, 2>> unique_edges(const PolyMesh& m) {
+  std::unordered_set<uint64_t> seen;
+  seen.reserve(m.face_vertices.size());
+  std::vector<std::array<Vec3, 2>> edges;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    const auto vs = m.face(f);
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      const uint32_t a = vs[i], b = vs[(i + 1) % vs.size()];
+      if (seen.insert(edge_key(a, b)).second) edges.push_back({m.positions[a], m.positions[b]});
+    }
+  }
+  return edges;
+}
+
+// Scaled Jacobians (against the Newell normal and, with a reference, the surface's) and corner
+// angles over every face.
+void summarize_shapes(const PolyMesh& m, const std::vector<FaceShape>& shapes, bool surface,
+                      QualityReport& q) {
+  double sj_sum = 0, angle_sum = 0;
+  uint32_t below_half = 0, corners_seen = 0;
+  q.sj_min = q.sj_surface_min = INFINITY;
+  for (std::size_t f = 0; f < m.num_faces(); ++f) {
+    const FaceShape& s = shapes[f];
+    angle_sum += s.angle_deviation_sum;
+    q.angle_deviation_max = std::max(q.angle_deviation_max, s.angle_deviation_max);
+    corners_seen += uint32_t(m.face(f).size());
+    q.sj_min = std::min(q.sj_min, s.sj);
+    sj_sum += s.sj;
+    below_half += s.sj < 0.5;
+    q.sj_invalid += s.sj <= kMinValidScaledJacobian;
+    q.sj_nonpositive += s.sj <= 0;
+    if (surface) {
+      q.sj_surface_min = std::min(q.sj_surface_min, s.sj_surface);
+      q.sj_surface_nonpositive += s.sj_surface <= 0;
+    }
+  }
+  if (m.num_faces()) {
+    q.sj_mean = sj_sum / double(m.num_faces());
+    q.sj_below_half = 100.0 * below_half / double(m.num_faces());
+  }
+  if (!surface) q.sj_surface_min = 0;
+  if (corners_seen) q.angle_deviation_mean = angle_sum / corners_seen;
+}
+
+// Aspect ratios and the spread of areas over the 4-sided faces.
+void summarize_quads(const PolyMesh& m, const std::vector<FaceShape>& shapes, QualityReport& q) {
+  std::vector<double> aspect, area;
+  for (std::size_t f = 0; f < m.num_faces(); ++f)
+    if (m.face(f).size() == 4) {
+      aspect.push_back(shapes[f].aspect);
+      area.push_back(shapes[f].area);
+    }
+  if (aspect.empty()) return;
+  q.aspect_mean = mean_of(aspect);
+  const auto above = std::count_if(aspect.begin(), aspect.end(), [](double a) { return a > 2; });
+  q.aspect_above_2 = 100.0 * double(above) / double(aspect.size());
+  // Nearest rank: the smallest value at least 95% of the quads do not exceed.
+  const std::size_t rank = (95 * aspect.size() + 99) / 100 - 1;
+  std::nth_element(aspect.begin(), aspect.begin() + std::ptrdiff_t(rank), aspect.end());
+  q.aspect_p95 = aspect[rank];
+  q.area_cv = coefficient_of_variation(area);
 }
 
 }  // namespace
@@ -265,6 +357,7 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
     QualityReport q = measure_quality(ms, reference ? &rs : nullptr, options);
     q.edge_mean = std::ldexp(q.edge_mean, exponent);
     q.hausdorff_at = ldexp(q.hausdorff_at, exponent);
+    q.feature_length = std::ldexp(q.feature_length, exponent);
     return q;
   }
   QualityReport q;
@@ -291,50 +384,24 @@ QualityReport measure_quality(const PolyMesh& m, const PolyMesh* reference,
     ref_tree.emplace(fan_triangles(*reference));
   }
 
-  // Element shape.
-  double sj_sum = 0, angle_sum = 0;
-  uint32_t below_half = 0, corners_seen = 0;
-  q.sj_min = q.sj_surface_min = INFINITY;
   std::vector<FaceShape> shapes(m.num_faces());
   tbb::parallel_for(std::size_t(0), m.num_faces(), [&](std::size_t f) {
     shapes[f] = face_shape(m, f, ref_tree ? &*ref_tree : nullptr);
   });
-  for (std::size_t f = 0; f < m.num_faces(); ++f) {
-    const FaceShape& s = shapes[f];
-    angle_sum += s.angle_deviation_sum;
-    q.angle_deviation_max = std::max(q.angle_deviation_max, s.angle_deviation_max);
-    corners_seen += uint32_t(m.face(f).size());
-    q.sj_min = std::min(q.sj_min, s.sj);
-    sj_sum += s.sj;
-    below_half += s.sj < 0.5;
-    q.sj_nonpositive += s.sj <= 0;
-    if (ref_tree) {
-      q.sj_surface_min = std::min(q.sj_surface_min, s.sj_surface);
-      q.sj_surface_nonpositive += s.sj_surface <= 0;
-    }
-  }
-  if (m.num_faces()) {
-    q.sj_mean = sj_sum / double(m.num_faces());
-    q.sj_below_half = 100.0 * below_half / double(m.num_faces());
-  }
-  if (!ref_tree) q.sj_surface_min = 0;
-  if (corners_seen) q.angle_deviation_mean = angle_sum / corners_seen;
+  summarize_shapes(m, shapes, ref_tree.has_value(), q);
+  summarize_quads(m, shapes, q);
 
-  // Edge lengths (each edge once).
-  std::unordered_map<uint64_t, double> lengths;
-  for (std::size_t f = 0; f < m.num_faces(); ++f) {
-    const auto vs = m.face(f);
-    for (std::size_t i = 0; i < vs.size(); ++i) {
-      const uint32_t a = vs[i], b = vs[(i + 1) % vs.size()];
-      lengths.emplace(edge_key(a, b), norm(m.positions[a] - m.positions[b]));
-    }
-  }
-  double sum = 0, sum2 = 0;
-  for (const auto& [k, l] : lengths) sum += l, sum2 += l * l;
-  if (!lengths.empty()) {
-    q.edge_mean = sum / double(lengths.size());
-    const double var = std::max(0.0, sum2 / double(lengths.size()) - q.edge_mean * q.edge_mean);
-    q.edge_cv = q.edge_mean > 0 ? std::sqrt(var) / q.edge_mean : 0;
+  const std::vector<std::array<Vec3, 2>> edges = unique_edges(m);
+  std::vector<double> lengths(edges.size());
+  for (std::size_t e = 0; e < edges.size(); ++e) lengths[e] = norm(edges[e][1] - edges[e][0]);
+  q.edge_mean = mean_of(lengths);
+  q.edge_cv = coefficient_of_variation(lengths);
+  if (reference) {
+    q.feature_angle_deg = options.feature_angle_deg;
+    const FeatureCoverage c = feature_coverage(feature_edges(*reference, options.feature_angle_deg),
+                                               edges, kFeatureCoverageTolerance * q.edge_mean);
+    q.feature_length = c.length;
+    q.feature_coverage = c.share();
   }
 
   // Two-sided distances, over the reference's bounding-box diagonal.
@@ -356,6 +423,12 @@ double quad_scaled_jacobian(const std::array<Vec3, 4>& q) {
   return polygon_shape(
              4, [&](std::size_t i) -> const Vec3& { return q[i]; }, nullptr)
       .sj;
+}
+
+double quad_aspect_ratio(const std::array<Vec3, 4>& q) {
+  return polygon_shape(
+             4, [&](std::size_t i) -> const Vec3& { return q[i]; }, nullptr)
+      .aspect;
 }
 
 std::vector<double> surface_scaled_jacobians(const PolyMesh& quads, const PolyMesh& reference) {

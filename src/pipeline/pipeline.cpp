@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
+#include "extract/split_triangles.hpp"
 #include "isoquad/error.hpp"
 #include "metrics/aabb_tree.hpp"
 #include "metrics/quality.hpp"
@@ -218,6 +219,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   LayoutOptions sized_layout = o.layout;
   sized_layout.edge_length = o.edge_length > 0 ? h : 0;
   sized_layout.quads = o.edge_length > 0 ? 0 : (o.quads > 0 ? o.quads * run.area_share : 0);
+  sized_layout.default_share = run.area_share;
   LayoutOptions lo = sized_layout;
   t0 = Clock::now();
   auto split = [&] {
@@ -819,14 +821,12 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
 
 // The component at the size `o` asks for, with the patch count it asks for (or VSA's).
 ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
-  double total_area = 0;
-  for (const auto& comp : prep.components) total_area += surface_area(comp.mesh);
   const PreparedComponent& comp = prep.components.at(c);
+  const ComponentSize size = component_size(prep, c, {o.edge_length, o.quads});
   ComponentRun run;
   run.component = c;
-  run.area_share = total_area > 0 ? surface_area(comp.mesh) / total_area : 1.0;
-  const double h = component_edge_length(comp.mesh, run.area_share, {o.edge_length, o.quads},
-                                         prep.normalization.scale);
+  run.area_share = size.area_share;
+  const double h = size.edge_length;
   const double diagonal = mesh_diagonal(prep);
   // A big patch with a long protrusion crowds its tip exponentially in any harmonic map; on a
   // finer surface the crowded triangles get too small to certify (E553), and few patches on a
@@ -847,6 +847,12 @@ ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const Pipeline
       refine_far(stages, diagonal, run);
       return run;
     } catch (const Error& e) {
+      // A traced layout that a later stage cannot use: this component takes VSA's patches.
+      if (run.field_used && e.kind() != ErrorKind::internal) {
+        run.field_log.failure = fmt::format("a stage after the traced layout failed: {}", e.what());
+        stages.field_layout = false;
+        continue;
+      }
       if (e.code() == "E553" && stages.layout.improve_corners) {
         stages.layout.improve_corners = false;
         run.corners_unrefined = true;
@@ -916,6 +922,16 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
 }  // namespace
 
 ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
+  const TriMesh& mesh = prep.components.at(c).mesh;
+  if (mesh.num_faces() < kTriangleSplitBelowFaces) {
+    ComponentRun small;
+    small.component = c;
+    small.area_share = component_size(prep, c, {o.edge_length, o.quads}).area_share;
+    small.triangle_split = true;
+    small.surface = identity_refinement(mesh);
+    small.quads = split_triangles_into_quads(mesh);
+    return small;
+  }
   ComponentRun run = run_sized(prep, c, o);
   if (o.edge_length > 0 || o.quads > 0 || o.tolerance <= 0 || o.tolerance_rounds == 0 ||
       o.last != Stage::extract || run.quads.quads.empty())
@@ -982,7 +998,8 @@ PolyMesh merge_quads(const PreparedMesh& prep, const std::vector<ComponentRun>& 
       out.add_face({base + v[0], base + v[1], base + v[2], base + v[3]});
       out.face_group.push_back(int32_t(patch_base + run.quads.quad_patch[q]));
     }
-    patch_base += uint32_t(run.layout.charts.size());
+    patch_base +=
+        run.triangle_split ? run.surface.mesh.num_faces() : uint32_t(run.layout.charts.size());
   }
   return out;
 }

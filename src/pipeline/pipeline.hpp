@@ -148,7 +148,10 @@ struct SizeRound {
 
 struct ComponentRun {
   uint32_t component = 0;  // index into PreparedMesh::components
-  double area_share = 1;   // of the whole surface
+  double area_share = 1;   // ComponentSize::area_share (sizing.hpp)
+  // Too small for patches (sizing.hpp kTriangleSplitBelowFaces): the quads are its triangles split
+  // in three, patch per triangle, and the stages' results are empty.
+  bool triangle_split = false;
   // The surface the stages work on: the prepared component, subdivided `subdivisions` times,
   // with provenance in the component; its feature edges are the children of feature edges.
   RefinedMesh surface;
@@ -239,7 +242,7 @@ RefinedMesh subdivide_coarse(const TriMesh& mesh, const EdgeData<char>& feature,
 std::vector<ComponentRun> run_pipeline(const PreparedMesh& prep, const PipelineOptions& options);
 
 // The components' quads as one mesh in input coordinates; face_group is the patch id, numbered
-// across components.
+// across components (a triangle-split component has one patch per triangle).
 PolyMesh merge_quads(const PreparedMesh& prep, const std::vector<ComponentRun>& runs);
 
 }  // namespace isoquad

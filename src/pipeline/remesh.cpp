@@ -34,6 +34,7 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"improve_corners", o.improve_corners},
           {"feature_angle", o.feature_angle_deg},
           {"repair", o.repair},
+          {"weld_epsilon", o.weld_epsilon},
           {"smooth", o.smooth},
           {"untangle", o.untangle},
           {"snap", o.snap},
@@ -61,6 +62,9 @@ void check_options(const RemeshOptions& o) {
   if (o.quads > 0 && o.edge_length > 0) refuse("give a quad count or an edge length, not both");
   if (!(o.feature_angle_deg >= 0 && o.feature_angle_deg <= 180))
     refuse(fmt::format("feature angle {} is not in [0, 180] degrees", o.feature_angle_deg));
+  if (!(o.weld_epsilon >= 0 && o.weld_epsilon <= 0.1))
+    refuse(fmt::format("weld distance {} is not a fraction of the diagonal in [0, 0.1]",
+                       o.weld_epsilon));
   if (o.relax != "adaptive" && o.relax != "bisection" && o.relax != "locked")
     refuse(fmt::format("unknown relaxation '{}' (adaptive, bisection or locked)", o.relax));
   if (o.segmentation != "vsa" && o.segmentation != "field")
@@ -84,6 +88,23 @@ void warn(RemeshRun& run, InputIssue issue, const Say& say) {
 
 }  // namespace
 
+PrepOptions prep_options(const RemeshOptions& o, bool unshared_vertices) {
+  PrepOptions po;
+  po.repair = o.repair;
+  po.weld_all = unshared_vertices || o.weld_all;
+  po.weld_epsilon = o.weld_epsilon;
+  po.feature_angle_deg = o.feature_angle_deg;
+  return po;
+}
+
+PreparedMesh check_input(const PolyMesh& input, const RemeshOptions& options,
+                         bool unshared_vertices, bool diagnose) {
+  check_options(options);
+  PrepOptions po = prep_options(options, unshared_vertices);
+  po.diagnose = diagnose;
+  return prepare(input, po);
+}
+
 PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
                            const std::function<void(const std::string&)>& progress,
                            const ProgressCallback& advance) {
@@ -106,17 +127,12 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     if (advance) advance(at);
   };
   reach(0, "prepare");
-  check_options(opt);
   // Parallel stages are deterministic: the thread count changes the time, not the output.
   std::optional<tbb::global_control> limit;
   if (opt.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, opt.threads);
   auto t0 = std::chrono::steady_clock::now();
-  PrepOptions po;
-  po.repair = opt.repair;
-  po.weld_all = unshared_vertices || opt.weld_all;
-  po.feature_angle_deg = opt.feature_angle_deg;
   RemeshRun run;
-  run.prep = prepare(input, po);
+  run.prep = check_input(input, opt, unshared_vertices);  // the options first, then the input
   const PreparedMesh& prep = run.prep;
   const double prep_s = seconds_since(t0);
   constexpr double kPrepareShare = 0.05;
@@ -168,12 +184,21 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     const ComponentRun& r = runs.back();
     faces_done += prep.components[c].mesh.num_faces();
     at.fraction = component_done();
-    say(fmt::format(
-        "component {}: segment {} patches ({:.0f} ms), layout {} quads ({:.0f} ms), "
-        "param {} factorizations{} ({:.0f} ms), extract ({:.0f} ms)",
-        c, r.seg.num_patches, 1e3 * r.segment_seconds, r.layout.quads(), 1e3 * r.layout_seconds,
-        r.param_report.factorizations, r.param_report.fell_back_to_locked ? ", locked map" : "",
-        1e3 * r.param_seconds, 1e3 * r.extract_seconds));
+    if (r.triangle_split)
+      warn(run,
+           {InputIssue::Severity::warning, "W109",
+            fmt::format("component {} has {} faces, too few for patches: each triangle split "
+                        "into three quads",
+                        prep.components[c].report_index, r.surface.mesh.num_faces()),
+            1},
+           say);
+    else
+      say(fmt::format(
+          "component {}: segment {} patches ({:.0f} ms), layout {} quads ({:.0f} ms), "
+          "param {} factorizations{} ({:.0f} ms), extract ({:.0f} ms)",
+          c, r.seg.num_patches, 1e3 * r.segment_seconds, r.layout.quads(), 1e3 * r.layout_seconds,
+          r.param_report.factorizations, r.param_report.fell_back_to_locked ? ", locked map" : "",
+          1e3 * r.param_seconds, 1e3 * r.extract_seconds));
     if (r.size_rounds.size() > 1) {
       std::string tried;
       for (std::size_t k = 0; k < r.size_rounds.size(); ++k)
@@ -288,10 +313,11 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"folded_before", r.misfit_split.folded_before},
                        {"folded_after", r.misfit_split.folded_after},
                        {"kept", r.misfit_split.kept}}},
+                     {"triangle_split", r.triangle_split},
                      {"patches", r.seg.num_patches},
                      {"meta_vertices", r.seg.meta.vertices.size()},
                      {"meta_vertex_valence", valence},
-                     {"quads", r.layout.quads()},
+                     {"quads", r.triangle_split ? int64_t(r.quads.quads.size()) : r.layout.quads()},
                      {"edge_length", r.layout.edge_length / prep.normalization.scale},
                      {"layout_repairs", r.layout_report.repairs},
                      {"length_ratio",
@@ -337,7 +363,13 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"nodes", r.field_log.nodes},
                        {"traces", r.field_log.traces},
                        {"t_junctions", r.field_log.t_junctions},
+                       {"seeds", r.field_log.seeds},
+                       {"connections", r.field_log.connections},
+                       {"deleted", r.field_log.deleted},
+                       {"rounds", r.field_log.rounds},
                        {"patches", r.field_log.patches},
+                       {"repaired_patches", r.field_log.repaired_patches},
+                       {"free_corner_patches", r.field_log.free_corner_patches},
                        {"seconds",
                         {{"field", r.field_log.field_seconds},
                          {"trace", r.field_log.trace_seconds},

@@ -29,6 +29,17 @@ struct RemeshRun {
   std::vector<InputIssue> warnings;
 };
 
+// The preparation a remesh with `options` applies (repair, welding, feature angle). The commands
+// that stop before the quads prepare with it too.
+PrepOptions prep_options(const RemeshOptions& options, bool unshared_vertices);
+
+// What remesh checks before the stages: its options (E003), then the input as prepare()
+// checks it (prep/prepare.hpp); with `diagnose`, the input's errors are listed in the report
+// instead of thrown. `isoquad info` runs it, so that "would accept" means that remesh does not
+// reject the input.
+PreparedMesh check_input(const PolyMesh& input, const RemeshOptions& options,
+                         bool unshared_vertices = false, bool diagnose = false);
+
 // `progress` gets every line as it is said; `advance` the same lines with how far the run is,
 // and the stage boundaries (isoquad::Progress).
 RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& options,

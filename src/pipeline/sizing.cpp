@@ -15,15 +15,34 @@ double edge_length_for_quads(const TriMesh& mesh, double quads) {
   return std::sqrt(surface_area(mesh) / std::max(quads, 1.0));
 }
 
-double default_quad_count(const TriMesh& mesh) {
-  return std::clamp(mesh.num_faces() / 8.0, 1000.0, 20000.0);
+double default_quad_count(std::size_t triangles, double share) {
+  return std::clamp(double(triangles) / 8.0, 1000.0 * share, 20000.0 * share);
 }
 
-double component_edge_length(const TriMesh& component, double share, const SizeRequest& r,
-                             double scale) {
-  if (r.edge_length > 0) return r.edge_length * scale;
-  const double quads = r.quads > 0 ? r.quads * share : default_quad_count(component);
-  return edge_length_for_quads(component, quads);
+ComponentSize component_size(const PreparedMesh& prep, uint32_t c, const SizeRequest& r) {
+  double total_area = 0;
+  std::size_t triangles = 0;  // of the components that take a share
+  for (const PreparedComponent& comp : prep.components) {
+    if (comp.mesh.num_faces() < kTriangleSplitBelowFaces) continue;
+    triangles += comp.mesh.num_faces();
+    total_area += surface_area(comp.mesh);
+  }
+  const TriMesh& mesh = prep.components.at(c).mesh;
+  ComponentSize s;
+  if (mesh.num_faces() < kTriangleSplitBelowFaces) {
+    s.area_share = 0;
+    s.edge_length = edge_length_for_quads(mesh, 3.0 * mesh.num_faces());
+    return s;
+  }
+  s.area_share = total_area > 0 ? surface_area(mesh) / total_area : 1.0;
+  if (r.edge_length > 0) {
+    s.edge_length = r.edge_length * prep.normalization.scale;
+    return s;
+  }
+  s.quads = r.quads > 0 ? r.quads * s.area_share : 0;
+  s.edge_length = edge_length_for_quads(
+      mesh, r.quads > 0 ? s.quads : default_quad_count(triangles) * s.area_share);
+  return s;
 }
 
 }  // namespace isoquad

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
+#include <optional>
 
 #include "isoquad/error.hpp"
 #include "prep/steps.hpp"
@@ -69,6 +71,74 @@ void shape_statistics(const std::vector<Vec3>& positions, const std::vector<Tri>
   r.min_angle_deg = min_angle * 180.0 / std::numbers::pi;
 }
 
+// Welding boundary vertices may close a hole or merge two boundary loops (a mesh with 106 holes
+// had 105 after it): such a weld is a change of topology, done only with `repair` (or for STL
+// soups, which share no vertex at all). Otherwise the vertices stay apart, with a warning.
+void hold_topology_changing_weld(const PolyMesh& soup, const PrepOptions& options,
+                                 std::vector<uint32_t>& weld, InputReport& report) {
+  if (report.welded_vertices == 0 || options.weld_all || options.repair) return;
+  std::vector<uint32_t> apart(weld.size());
+  std::iota(apart.begin(), apart.end(), 0u);
+  const prep::WeldTopology before = prep::weld_topology(soup, apart),
+                           after = prep::weld_topology(soup, weld);
+  if (before == after) return;
+  note(report, Severity::warning, "W112", report.welded_vertices,
+       fmt::format("kept {} coincident boundary vertices apart: welding them would change the "
+                   "topology (Euler characteristic {} -> {}, boundary loops {} -> {}); --repair "
+                   "welds them",
+                   report.welded_vertices, before.euler, after.euler, before.boundary_loops,
+                   after.boundary_loops));
+  weld = std::move(apart);
+  report.welded_vertices = 0;
+}
+
+// A component with (near) no area for its extent has no surface to lay quads on: its faces are
+// collinear or coincident, or a vertex far from the rest stretches it so that the rest shrinks
+// to a point (a sphere with one vertex at 1e20 or 1e100). The stages cannot parametrize it
+// (remesh crashed or failed far downstream on both), so preparation rejects it, naming the
+// vertex farthest from the component's centroid. Working units: products of two coordinates
+// stay finite (kSafeExponent).
+constexpr double kNoAreaRatio = 1e-12;  // area over the squared bounding-box diagonal
+struct NoArea {
+  std::string message;
+  uint32_t vertex = 0;  // input vertex farthest from the centroid
+};
+std::optional<NoArea> without_area(const PolyMesh& input, const prep::Soup& s,
+                                   const std::vector<uint32_t>& tris, std::size_t c) {
+  Box3 box;
+  double area = 0;
+  Vec3 centroid;
+  std::vector<uint32_t> vertices;
+  for (const uint32_t t : tris) {
+    const Tri& tri = s.tris[t];
+    const Vec3 &p0 = s.positions[tri[0]], &p1 = s.positions[tri[1]], &p2 = s.positions[tri[2]];
+    area += 0.5 * norm(cross(p1 - p0, p2 - p0));
+    for (const uint32_t v : tri) vertices.push_back(v);
+  }
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  for (const uint32_t v : vertices) {
+    box.add(s.positions[v]);
+    centroid += s.positions[v] / double(vertices.size());
+  }
+  const double diagonal = box.diagonal();
+  if (area > kNoAreaRatio * diagonal * diagonal) return std::nullopt;
+  if (!(diagonal > 0))
+    return NoArea{fmt::format("component {} has zero extent (all its vertices coincide)", c),
+                  s.vertex_input[vertices[0]]};
+  uint32_t far = vertices[0];
+  for (const uint32_t v : vertices)
+    if (norm(s.positions[v] - centroid) > norm(s.positions[far] - centroid)) far = v;
+  const uint32_t in = s.vertex_input[far];
+  const Vec3 p = input.positions[in];
+  const std::string msg = fmt::format(
+      "component {} has no area for its size ({:.3g} of its bounding-box diagonal squared): its "
+      "faces are degenerate (collinear vertices), or vertices far from the rest shrink the rest "
+      "to a point (the farthest from its centroid: input vertex {} at ({:.6g}, {:.6g}, {:.6g}))",
+      c, area / (diagonal * diagonal), in, p.x, p.y, p.z);
+  return NoArea{msg, in};
+}
+
 }  // namespace
 
 PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
@@ -97,7 +167,8 @@ PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
   Box3 box;
   for (const Vec3& p : soup.positions) box.add(p);
   const double weld_eps = options.weld_epsilon * box.diagonal();
-  const auto weld = prep::weld_map(soup, options.weld_all, weld_eps, report.welded_vertices);
+  auto weld = prep::weld_map(soup, options.weld_all, weld_eps, report.welded_vertices);
+  hold_topology_changing_weld(soup, options, weld, report);
   prep::Soup s = prep::triangulate(soup, weld, report);
   note(report, Severity::repaired, "W104", report.welded_vertices,
        fmt::format("welded {} coincident vertices", report.welded_vertices));
@@ -134,12 +205,11 @@ PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
       report.issues.push_back({Severity::error, "E102", msg, 1});
     } else {
       r.genus = (2 - r.euler - r.boundary_loops) / 2;
-      if (r.faces < options.min_component_faces) {
+      if (const auto none = without_area(input, s, comps[c].tris, c)) {
         r.kept = false;
-        report.issues.push_back({Severity::warning, "W109",
-                                 fmt::format("dropped component {} ({} faces, fewer than {})", c,
-                                             r.faces, options.min_component_faces),
-                                 1});
+        if (!options.diagnose)
+          reject(ErrorKind::invalid_input, "E103", none->message, {none->vertex});
+        report.issues.push_back({Severity::error, "E103", none->message, 1});
       }
     }
     if (r.kept)

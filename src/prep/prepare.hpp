@@ -15,12 +15,11 @@
 namespace isoquad {
 
 struct PrepOptions {
-  bool repair = false;                // detach non-manifold edges instead of rejecting (E101)
-  bool weld_all = false;              // weld every coincident vertex (set for STL soups)
-  double weld_epsilon = 0.0;          // weld distance relative to the bounding-box diagonal
-  uint32_t min_component_faces = 10;  // smaller components are dropped with a warning
-  double feature_angle_deg = 60.0;    // dihedral angle above which an edge is a feature; <= 0: none
-  bool diagnose = false;              // record would-be errors in the report instead of throwing
+  bool repair = false;              // detach non-manifold edges instead of rejecting (E101)
+  bool weld_all = false;            // weld every coincident vertex (set for STL soups)
+  double weld_epsilon = 0.0;        // weld distance relative to the bounding-box diagonal
+  double feature_angle_deg = 60.0;  // dihedral angle above which an edge is a feature; <= 0: none
+  bool diagnose = false;            // record would-be errors in the report instead of throwing
   // Delaunay flips inside flat regions (prep::flip_flat_edges), for quads that do not follow
   // the input's needle triangles.
   bool flip_flat = true;
@@ -49,7 +48,7 @@ struct ComponentReport {
   int64_t euler = 0;
   int64_t genus = 0;  // orientable genus; for a non-orientable component, its non-orientable genus
   bool orientable = true;
-  bool kept = true;  // false: dropped (too small) or rejected (non-orientable)
+  bool kept = true;  // false: rejected (non-orientable)
   double area = 0;   // in input units
   uint32_t feature_edges = 0;
   double min_angle_deg = 0;  // of the input's triangles, before the flips below
@@ -90,7 +89,8 @@ struct PreparedMesh {
 // \pre `soup` indices are in range (the readers guarantee it). Coordinates may be of any finite
 // magnitude (1e-300 to 1e300 give the same normalized mesh).
 // \throw Error(invalid_input) E013 a NaN or infinite coordinate, E101 non-manifold edge (without
-//        repair), E103 nothing left;
+//        repair), E103 nothing left, or a component without area for its size (collinear
+//        faces, or a vertex so far from the rest that the rest shrinks to a point);
 //        Error(unsupported_topology) E102 non-orientable. With options.diagnose these are
 //        recorded in report.issues instead, and only the acceptable components are returned.
 PreparedMesh prepare(const PolyMesh& soup, const PrepOptions& options = {});

@@ -19,6 +19,15 @@ struct Soup {
 // soup's boundary are welded unless `all`; `eps` is an absolute distance (0: exact duplicates).
 std::vector<uint32_t> weld_map(const PolyMesh& soup, bool all, double eps, uint32_t& welded);
 
+// What a weld may change: the Euler characteristic of the soup's faces (polygons; those that
+// collapse left out) and its boundary loops, counted as connected sets of boundary edges.
+struct WeldTopology {
+  int64_t euler = 0;
+  uint32_t boundary_loops = 0;
+  bool operator==(const WeldTopology&) const = default;
+};
+WeldTopology weld_topology(const PolyMesh& soup, const std::vector<uint32_t>& weld);
+
 // Applies the weld, drops faces that collapse, triangulates polygons, drops unused vertices.
 Soup triangulate(const PolyMesh& soup, const std::vector<uint32_t>& weld, InputReport& report);
 

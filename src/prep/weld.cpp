@@ -86,4 +86,42 @@ std::vector<uint32_t> weld_map(const PolyMesh& soup, bool all, double eps, uint3
   return rep;
 }
 
+WeldTopology weld_topology(const PolyMesh& soup, const std::vector<uint32_t>& weld) {
+  std::vector<uint64_t> edges;
+  std::vector<char> used(soup.num_vertices(), 0);
+  int64_t faces = 0;
+  for (std::size_t f = 0; f < soup.num_faces(); ++f) {
+    std::vector<uint32_t> vs;
+    for (const uint32_t v : soup.face(f))
+      if (std::find(vs.begin(), vs.end(), weld[v]) == vs.end()) vs.push_back(weld[v]);
+    if (vs.size() < 3) continue;  // collapses: dropped (W105)
+    ++faces;
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+      const uint32_t a = vs[i], b = vs[(i + 1) % vs.size()];
+      used[a] = 1;
+      edges.push_back((uint64_t(std::min(a, b)) << 32) | std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  UnionFind loops(soup.num_vertices());
+  std::vector<char> on_boundary(soup.num_vertices(), 0);
+  int64_t distinct = 0;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    ++distinct;
+    if (j - i == 1) {
+      const uint32_t a = uint32_t(edges[i] >> 32), b = uint32_t(edges[i] & 0xFFFFFFFFu);
+      loops.unite(a, b);
+      on_boundary[a] = on_boundary[b] = 1;
+    }
+    i = j;
+  }
+  WeldTopology t;
+  t.euler = int64_t(std::count(used.begin(), used.end(), 1)) - distinct + faces;
+  for (uint32_t v = 0; v < soup.num_vertices(); ++v)
+    if (on_boundary[v] && loops.find(v) == v) ++t.boundary_loops;
+  return t;
+}
+
 }  // namespace isoquad::prep

@@ -245,12 +245,24 @@ std::string index_html(const nlohmann::json& report, const std::vector<std::stri
                   q.at("topology").at("boundary_loops").dump()));
   row("irregular vertices", q.at("irregular_vertices").dump());
   row("interior valences", html_escape(q.at("interior_valence").dump()));
-  row("scaled Jacobian min / mean / % below 0.5",
+  row("scaled Jacobian against each quad's own normal: min / mean / % below 0.5",
       fmt::format("{} / {} / {}", number(q.at("scaled_jacobian").at("min"), "{:.3f}"),
                   number(q.at("scaled_jacobian").at("mean"), "{:.3f}"),
                   number(q.at("scaled_jacobian").at("percent_below_0.5"), "{:.1f}")));
+  row("quads not valid (scaled Jacobian &le; 0.001 against their own normal)",
+      q.at("scaled_jacobian").at("at_most_0.001").dump());
   row("folded quads (scaled Jacobian &le; 0 against the surface normal)",
       q.at("scaled_jacobian_surface").at("nonpositive").dump());
+  row("aspect ratio (opposite sides) mean / 95th percentile / % above 2; area CV",
+      fmt::format("{} / {} / {}; {}", number(q.at("aspect_ratio").at("mean"), "{:.2f}"),
+                  number(q.at("aspect_ratio").at("p95"), "{:.2f}"),
+                  number(q.at("aspect_ratio").at("percent_above_2"), "{:.1f}"),
+                  number(q.at("area").at("cv"), "{:.3f}")));
+  const nlohmann::json& fc = q.at("feature_coverage");
+  row(fmt::format("feature edges (dihedral &gt; {} deg) within 0.1 edge lengths of a quad edge",
+                  number(fc.at("angle_deg"), "{:g}")),
+      fc.at("length").get<double>() > 0 ? number(100 * fc.at("covered").get<double>(), "{:.1f}%")
+                                        : std::string("no feature edge"));
   row("angle deviation mean / max (deg)",
       fmt::format("{} / {}", number(q.at("angle_deviation_deg").at("mean"), "{:.1f}"),
                   number(q.at("angle_deviation_deg").at("max"), "{:.1f}")));
@@ -392,6 +404,7 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
   }
   for (std::size_t k = 0; k < run.runs.size(); ++k) {
     const ComponentRun& r = run.runs[k];
+    if (r.triangle_split) continue;  // no layout
     const std::string name = k == 0 ? "layout.svg" : fmt::format("layout-{}.svg", k);
     write_layout_svg(dir / name, r.seg.refined.mesh, r.seg.labels, r.layout, r.param.map,
                      r.param.certificate.bad_faces);
@@ -401,6 +414,10 @@ ReportFiles write_report(const std::filesystem::path& dir, const PolyMesh& input
   std::vector<QuadMesh> locked_quads;
   locked_quads.reserve(run.runs.size());
   for (const ComponentRun& r : run.runs) {
+    if (r.triangle_split) {  // no map: its quads as they are
+      locked_quads.push_back(r.quads);
+      continue;
+    }
     Param locked = r.param;
     locked.map = locked.locked;
     std::fill(locked.locked_edges.begin(), locked.locked_edges.end(), 1);

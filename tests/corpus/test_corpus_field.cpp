@@ -122,6 +122,7 @@ LaidOut remesh_with(const ReadResult& input, const std::string& segmentation) {
   EXPECT_TRUE(out.quality.vertex_manifold);
   EXPECT_TRUE(out.quality.same_topology);
   EXPECT_EQ(out.quality.sj_surface_nonpositive, 0u);
+  EXPECT_EQ(out.quality.sj_invalid, 0u) << "scaled Jacobian <= 0.001 against the own normal";
   EXPECT_NEAR(double(out.run.result.quads.num_faces()), 1500, 150);
   return out;
 }
@@ -151,17 +152,59 @@ TEST(CorpusFieldLayout, CylinderIsLaidOutAlongItsRulings) {
   EXPECT_EQ(report["options"]["segmentation"], "field");
 }
 
-// Where the traced patches cannot be laid out (here the sphere: two traces of one separatrix pass
-// a triangle apart and leave a sliver patch), the component takes VSA's patches, and the report
-// says why.
-TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
+// The sphere: its eight +1/4 singularities joined by twelve separatrices, each found from one end
+// and steered into the other (traced from both ends, they pass a triangle apart and leave a
+// sliver), cut it into the six faces of a cube. Every corner is the traces', every quad is
+// nearly square, and the only irregular vertices are the singularities.
+TEST(CorpusFieldLayout, SphereIsLaidOutAsACube) {
   ISOQUAD_CORPUS_MESH(path, "sphere.off");
   const ReadResult input = read_mesh(path);
   const LaidOut field = remesh_with(input, "field");
   const ComponentRun& r = field.run.runs[0];
-  EXPECT_FALSE(r.field_used);
-  EXPECT_FALSE(r.field_log.failure.empty());
+  ASSERT_TRUE(r.field_used) << r.field_log.failure;
   EXPECT_EQ(r.field_log.singularities, 8u);
+  EXPECT_EQ(r.field_log.connections, 12u);
+  EXPECT_EQ(r.seg.num_patches, 6u);
+  EXPECT_EQ(r.field_log.free_corner_patches, 0u);
+  EXPECT_EQ(field.quality.irregular, 8u);
+  EXPECT_EQ(field.quality.sj_nonpositive, 0u);
+  EXPECT_GT(field.quality.sj_min, 0.5);
+  EXPECT_GT(field.quality.sj_mean, 0.97);
+  const LaidOut vsa = remesh_with(input, "vsa");
+  EXPECT_GT(field.quality.sj_mean, vsa.quality.sj_mean);
+  EXPECT_LT(field.quality.edge_cv, vsa.quality.edge_cv);
+}
+
+// The knot: a tube with no singularity and no feature, so no trace, and one patch that is a
+// torus. Two seeds far apart close a loop around the tube each and join along it: four disks, and
+// a quad mesh without an irregular vertex (VSA's blobs leave about a hundred).
+TEST(CorpusFieldLayout, KnotIsCutByTheLoopsOfTwoSeeds) {
+  ISOQUAD_CORPUS_MESH(path, "knot1.off");
+  const ReadResult input = read_mesh(path);
+  const LaidOut field = remesh_with(input, "field");
+  const ComponentRun& r = field.run.runs[0];
+  ASSERT_TRUE(r.field_used) << r.field_log.failure;
+  EXPECT_EQ(r.field_log.singularities, 0u);
+  EXPECT_EQ(r.field_log.seeds, 2u);
+  EXPECT_EQ(r.seg.num_patches, 4u);
+  EXPECT_EQ(r.field_log.free_corner_patches, 0u);
+  EXPECT_EQ(field.quality.irregular, 0u);
+  EXPECT_EQ(field.quality.sj_nonpositive, 0u);
+  EXPECT_GT(field.quality.sj_mean, 0.95);
+  EXPECT_GT(field.quality.sj_min, 0.5);
+}
+
+// Where the traced patches cannot be used (here nefertiti: the map's solve stays inaccurate on
+// them), the component takes VSA's patches, and the report says why.
+TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
+  ISOQUAD_CORPUS_MESH(path, "nefertiti.off");
+  const ReadResult input = read_mesh(path);
+  const LaidOut field = remesh_with(input, "field");
+  const ComponentRun& r = field.run.runs[0];
+  EXPECT_FALSE(r.field_used);
+  EXPECT_NE(r.field_log.failure.find("a stage after the traced layout failed"), std::string::npos)
+      << r.field_log.failure;
+  EXPECT_GT(r.field_log.traces, 0u);
   const auto report = nlohmann::json::parse(field.run.result.report);
   EXPECT_EQ(report["components"][0]["layout_source"], "vsa");
   EXPECT_EQ(report["components"][0]["field"]["fallback_reason"], r.field_log.failure);

@@ -2,7 +2,8 @@
 // vertex-manifold, consistently oriented, and has the input's components, boundary loops and
 // Euler characteristic; its quad count is what the layout promised and within 10% of the
 // request. Untangling never adds folds, no quad folds against the surface (52 quads over the
-// corpus once) and the Hausdorff distance is within 2% of the diagonal.
+// corpus once), no quad has a scaled Jacobian <= 0.001 against its own normal (except the
+// known ones below) and the Hausdorff distance is within 2% of the diagonal.
 // The run's report folder (pictures, layout, JSON, HTML) is complete and its numbers are the
 // output's quality.
 #include <gtest/gtest.h>
@@ -49,15 +50,75 @@ double shortest_edge(const PolyMesh& quads) {
   return shortest / box.diagonal();
 }
 
+// Quads with a scaled Jacobian <= 0.001 against their own normal (kMinValidScaledJacobian),
+// which validity forbids, that VSA layouts still leave: by corpus mesh and quad count asked for
+// (0: the default size), measured on 2026-12-04 (2-core Xeon): 46 quads on 11 meshes at 1,500
+// quads, 52 on 9 at the default size. None folds against the surface: they straddle a crease or
+// a sharp fold (fandisk's at 1,500 quads bends 100 degrees across a diagonal, and one corner reads
+// -0.024 against the mean normal). With four-sided patches forced (--split-patches) fandisk has
+// 16, one at -1, and 8 of them fold against the surface too (mech-holes-shark 19 and 11), which
+// that test does not assert either. Every other run here must have none, these no more; issue
+// 32's field-aligned layout is to bring them to none.
+struct KnownInvalid {
+  const char* mesh;
+  double quads;
+  uint32_t count;
+};
+constexpr KnownInvalid kKnownInvalid[] = {
+    // at 1,500 quads
+    {"hand.off", 1500, 6},
+    {"cow.off", 1500, 16},
+    {"fandisk.off", 1500, 1},
+    {"armadillo.off", 1500, 7},
+    {"double-torus-example.off", 1500, 1},
+    {"knot1.off", 1500, 3},
+    {"rotor.off", 1500, 1},
+    {"elephant.off", 1500, 5},
+    {"mushroom.off", 1500, 1},
+    {"mech-holes-shark.off", 1500, 4},
+    {"three_peaks.off", 1500, 1},
+    // at the default size
+    {"cactus.off", 0, 1},
+    {"hand.off", 0, 3},
+    {"cow.off", 0, 20},
+    {"armadillo.off", 0, 6},
+    {"double-torus-example.off", 0, 1},
+    {"eight.off", 0, 3},
+    {"knot1.off", 0, 2},
+    {"elephant.off", 0, 15},
+    {"anchor.off", 0, 1},
+    // the runs of the tests below: the hand at 800 quads, four-sided patches (--split-patches)
+    {"hand.off", 800, 2},
+    {"fandisk.off --split-patches", 1500, 16},
+    {"eight.off --split-patches", 1500, 3},
+    {"mech-holes-shark.off --split-patches", 1500, 19},
+};
+
+// No quad not valid against its own normal, or no more than the known ones.
+void expect_valid_against_own_normal(const QualityReport& q, const std::string& mesh,
+                                     double quads) {
+  uint32_t known = 0;
+  for (const KnownInvalid& k : kKnownInvalid)
+    if (k.mesh == mesh && k.quads == quads) known = k.count;
+  EXPECT_LE(q.sj_invalid, known) << mesh << " at " << quads
+                                 << " quads: quads with scaled Jacobian <= 0.001 against their own "
+                                 << "normal (min " << q.sj_min << "; " << q.sj_surface_nonpositive
+                                 << " folded against the surface)";
+  testing::Test::RecordProperty("sj_invalid", int(q.sj_invalid));
+}
+
 // The output's quality against the input, and the validity every output must have: pure quad,
-// manifold, of the input's topology, no quad folded against the surface.
-QualityReport expect_valid_output(const PolyMesh& quads, const ReadResult& input) {
+// manifold, of the input's topology, no quad folded against the surface nor (but the known ones)
+// against its own normal. `quads`: the count asked for (0: the default size).
+QualityReport expect_valid_output(const PolyMesh& quads, const ReadResult& input,
+                                  const std::string& mesh, double asked) {
   const QualityReport q = measure_quality(quads, &input.mesh);
   EXPECT_TRUE(q.pure_quad);
   EXPECT_TRUE(q.edge_manifold);
   EXPECT_TRUE(q.vertex_manifold);
   EXPECT_TRUE(q.same_topology);
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  expect_valid_against_own_normal(q, mesh, asked);
   return q;
 }
 
@@ -303,6 +364,7 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   // quads; the anchor's with the flips of its needles, the hand's with the supernodal
   // factorization's rounding).
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  expect_valid_against_own_normal(q, GetParam(), 1500);
   // The armadillo is farthest, 1.37% (1.49% with OpenBLAS's SkylakeX kernels; 3.81% at its
   // fingers and toes before the tip splits, 2.89% with one round). The cow is at 0.91% with the
   // patch rounds (2.03% before, its chest and udder bridged by stretched quads; 3.36% before the
@@ -367,6 +429,7 @@ TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   expect_patch_rounds_kept_only_if_better(run, 0);
   EXPECT_GT(shortest_edge(quads), 1e-6);
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  expect_valid_against_own_normal(q, GetParam(), 0);
   // Within 1%. The cow is at 0.999%, with OpenBLAS's Cooperlake and SkylakeX kernels alike
   // (README, Threads: other kernels round otherwise), where its first run's two folded quads go
   // with the misfit split and the tips and the refinement then close in; it was 2.32% before
@@ -415,6 +478,7 @@ TEST(CorpusQuadSplit, FourSidedPatchesGiveAValidMesh) {
     EXPECT_TRUE(q.vertex_manifold);
     EXPECT_TRUE(q.oriented);
     EXPECT_TRUE(q.same_topology);
+    expect_valid_against_own_normal(q, std::string(file) + " --split-patches", 1500);
     // The layout lands near the request; the repairs then add (splits at 180-degree crease
     // corners, of which four-sided patches have many: fandisk 29, +116 quads) or remove quads.
     EXPECT_NEAR(double(layout_quads), 1500.0, 150.0);
@@ -449,6 +513,7 @@ TEST(CorpusTipSplit, CutOffArmEndBecomesACorner) {
   EXPECT_TRUE(q.pure_quad);
   EXPECT_TRUE(q.same_topology);
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  expect_valid_against_own_normal(q, "cactus.off", 0);
   EXPECT_LT(q.hausdorff, 0.7 * before);
   EXPECT_LT(q.hausdorff, 0.01);
 }
@@ -475,7 +540,7 @@ TEST(CorpusRefine, FarQuadsCutFinerReachTheTarget) {
   ASSERT_GE(r.refine_round_kept, 1u);
   // Its first figures are the unrefined run's.
   EXPECT_EQ(r.refine_rounds.at(0).result.quads, once.result.quads.num_faces());
-  const QualityReport q = expect_valid_output(run.result.quads, input);
+  const QualityReport q = expect_valid_output(run.result.quads, input, "eight.off", 0);
   EXPECT_LT(q.hausdorff, kTipTarget);
   EXPECT_GT(run.result.quads.num_faces(), once.result.quads.num_faces());
   EXPECT_LT(double(run.result.quads.num_faces()), 1.2 * double(once.result.quads.num_faces()));
@@ -558,7 +623,7 @@ TEST(CorpusPatchRounds, MorePatchesReachTheTarget) {
   EXPECT_LE(rounds.back().result.distance, kTipTarget);
   EXPECT_LE(rounds.back().result.folded, rounds[0].result.folded);
   EXPECT_EQ(rounds.back().result.quads, run.result.quads.num_faces());
-  const QualityReport q = expect_valid_output(run.result.quads, input);
+  const QualityReport q = expect_valid_output(run.result.quads, input, "elephant.off", 0);
   EXPECT_LT(q.hausdorff, kTipTarget);
   EXPECT_LT(q.hausdorff, before.hausdorff);
   const AabbTree tree(face_triangles(run.prep.components[0].mesh));
@@ -595,7 +660,7 @@ TEST(CorpusTipSplit, TipRunsKeepTheCountAskedFor) {
   const PolyMesh& quads = run.result.quads;
   EXPECT_GE(double(quads.num_faces()), 0.9 * 800);
   EXPECT_LE(double(quads.num_faces()), kCountSlack * 800);
-  const QualityReport q = expect_valid_output(quads, input);
+  const QualityReport q = expect_valid_output(quads, input, "hand.off", 800);
   EXPECT_LT(q.hausdorff, rounds[0].result.distance);
 }
 
@@ -624,6 +689,7 @@ TEST(CorpusMisfitSplit, KeptOnlyWithFewerFolds) {
   EXPECT_GE(double(quads.num_faces()), 0.9 * 3000);
   EXPECT_LE(double(quads.num_faces()), 1.1 * 3000);
   EXPECT_LT(q.hausdorff, kTipTarget);
+  expect_valid_against_own_normal(q, "mushroom.off", 3000);
   if (split.regions == 0) GTEST_SKIP() << "no quad folded after the corner tries: nothing to cut";
   EXPECT_GE(split.folded_before, 1u);
   if (split.kept) {

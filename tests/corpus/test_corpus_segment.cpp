@@ -23,8 +23,8 @@ TEST_P(CorpusSegment, PatchesAreDisksAndMetaMeshIsConsistent) {
   ISOQUAD_CORPUS_MESH(path, file);
   const PreparedMesh p = prepare(read_mesh(path).mesh);
   const PreparedComponent& c = p.components.at(0);
-  const SegmentOptions o =
-      SegmentOptions::sized(edge_length_for_quads(c.mesh, default_quad_count(c.mesh)), k);
+  const SegmentOptions o = SegmentOptions::sized(
+      edge_length_for_quads(c.mesh, default_quad_count(c.mesh.num_faces())), k);
   const SegmentResult r = segment(c.mesh, c.feature, o);
   test::expect_valid_segmentation(c.mesh, r);
   if (k > 0) {

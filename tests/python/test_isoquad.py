@@ -179,7 +179,7 @@ class Errors(unittest.TestCase):
         V, F = isoquad.read(DATA / "sphere.off")
         for options in ({"quads": -5}, {"edge_length": float("nan")}, {"relax": "loose"},
                         {"segmentation": "voronoi"}, {"weights": "cot"}, {"corners": "both"},
-                        {"tolerance": 2.0}, {"feature_angle": 200}, {"smooth": -1},
+                        {"tolerance": 2.0}, {"feature_angle": 200}, {"weld_eps": 0.5}, {"smooth": -1},
                         {"quads": 100, "edge_length": 0.1}, {"patches": 0}):
             with self.subTest(options=options):
                 self.assert_raises(isoquad.InputError, "E003", isoquad.remesh, V, F, **options)

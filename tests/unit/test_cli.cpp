@@ -1,9 +1,11 @@
 // The command line: exit statuses, messages on stderr, and --json output.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -67,14 +69,68 @@ TEST(Cli, InfoExplainsWhatRemeshWouldReject) {
   std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\n";
   obj += "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
   const auto p = write_temp("isoquad_cli_nm.obj", obj);
-  const CliRun r = run("info --min-component-faces 1 " + p.string());
+  const CliRun r = run("info " + p.string());
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("reject E101"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("would reject"), std::string::npos);
-  const CliRun fixed = run("info --repair --min-component-faces 1 " + p.string());
+  const CliRun fixed = run("info --repair " + p.string());
   EXPECT_EQ(fixed.status, 0) << fixed.out;
   EXPECT_NE(fixed.out.find("repair W101"), std::string::npos) << fixed.out;
   std::filesystem::remove(p);
+}
+
+// `info` runs remesh's own checks (check_input): what it rejects, remesh rejects with the same
+// code, and remesh prepares with every input option info takes. A sphere with a vertex at 1e100
+// (info accepted it, remesh aborted in CLP) is E103 for both; a plate with a slit whose sides
+// are 1e-4 apart is welded by both with --weld-eps (remesh ignored the option).
+TEST(Cli, InfoAcceptsOnlyWhatRemeshAccepts) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto out = dir / "isoquad_cli_agree_quads.obj";
+  isoquad::PolyMesh spike = isoquad::test::icosphere(2);
+  spike.positions[7] = {1e100, 0, 0};
+  const auto spiked = dir / "isoquad_cli_spike.off";
+  isoquad::write_mesh(spiked, spike);
+  const CliRun info = run("info " + spiked.string());
+  EXPECT_EQ(info.status, 2) << info.out;
+  EXPECT_NE(info.out.find("reject E103: component 0 has no area"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("would reject"), std::string::npos) << info.out;
+  const CliRun remesh = run("remesh -q --quads 300 " + spiked.string() + " -o " + out.string());
+  EXPECT_EQ(remesh.status, 2) << remesh.err;
+  EXPECT_NE(remesh.err.find("[E103]"), std::string::npos) << remesh.err;
+
+  // The slit: x = 0.5 from y = 0 to y = 0.5, its right side's vertices moved by 1e-4.
+  const isoquad::PolyMesh grid = isoquad::test::grid_plate(8, 8);
+  isoquad::PolyMesh slit;
+  slit.positions = grid.positions;
+  std::map<uint32_t, uint32_t> copy;
+  for (uint32_t j = 0; j < 4; ++j) {
+    copy[j * 9 + 4] = uint32_t(slit.positions.size());
+    slit.positions.push_back(grid.positions[j * 9 + 4] + isoquad::Vec3{1e-4, 0, 0});
+  }
+  for (std::size_t f = 0; f < grid.num_faces(); ++f) {
+    const uint32_t cell = uint32_t(f / 2), i = cell % 8, j = cell / 8;
+    std::vector<uint32_t> vs(grid.face(f).begin(), grid.face(f).end());
+    if (i >= 4 && j < 4)
+      for (uint32_t& v : vs)
+        if (copy.count(v)) v = copy[v];
+    slit.add_face(vs);
+  }
+  const auto slitted = dir / "isoquad_cli_slit.off";
+  isoquad::write_mesh(slitted, slit);
+  const CliRun welded = run("info --weld-eps 0.001 " + slitted.string());
+  EXPECT_EQ(welded.status, 0) << welded.out;
+  EXPECT_NE(welded.out.find("repair W104: welded 4 coincident vertices"), std::string::npos)
+      << welded.out;
+  const CliRun remeshed =
+      run("remesh --json --quads 100 --weld-eps 0.001 " + slitted.string() + " -o " + out.string());
+  ASSERT_EQ(remeshed.status, 0) << remeshed.err;
+  EXPECT_NE(remeshed.err.find("welded 4 coincident vertices [W104]"), std::string::npos)
+      << remeshed.err;
+  const auto doc = nlohmann::json::parse(remeshed.out);
+  EXPECT_EQ(doc["options"]["weld_epsilon"], 0.001);
+  const CliRun apart = run("info " + slitted.string());
+  EXPECT_EQ(apart.out.find("W104"), std::string::npos) << apart.out;
+  for (const auto& p : {spiked, slitted, out}) std::filesystem::remove(p);
 }
 
 TEST(Cli, FieldPrintsSingularitiesThatSumToEulerAndDrawsThem) {
@@ -396,6 +452,20 @@ TEST(Cli, RemeshQualityAndParamOnSampleMeshes) {
             std::string::npos)
       << plain.out;
   EXPECT_NE(run("quality --worst 2 " + out.string()).status, 0);  // needs --reference
+  // The invalid count is labelled as against each quad's own normal; the feature coverage is
+  // measured at --feature-angle (no dihedral angle is above 180 degrees).
+  EXPECT_NE(plain.out.find("against each quad's own normal"), std::string::npos) << plain.out;
+  EXPECT_NE(plain.out.find(fmt::format("{} at most 0.001 (not valid",
+                                       jq["scaled_jacobian"]["at_most_0.001"].get<int>())),
+            std::string::npos)
+      << plain.out;
+  EXPECT_GT(jq["feature_coverage"]["length"].get<double>(), 0);
+  EXPECT_EQ(jq["feature_coverage"], j["quality"]["feature_coverage"]);
+  const CliRun wide =
+      run("quality --json --feature-angle 180 " + out.string() + " --reference " + in);
+  ASSERT_EQ(wide.status, 0) << wide.err;
+  EXPECT_EQ(nlohmann::json::parse(wide.out)["feature_coverage"]["length"].get<double>(), 0.0);
+  EXPECT_NE(run("quality --feature-angle 30 " + out.string()).status, 0);  // needs --reference
   std::filesystem::remove(out);
   const auto obj = dir / ("isoquad_cli_param_" + std::to_string(::getpid()) + ".obj");
   const CliRun p = run("param " + in + " --quads 800 -o " + obj.string() + " --json");

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 
 #include "corpus.hpp"
 #include "extract/collapse.hpp"
@@ -617,6 +619,105 @@ TEST(Remesh, ComponentsAreRemeshedApartAndMerged) {
   }
   EXPECT_EQ(face, quads.num_faces());
   EXPECT_NEAR(shares, 1.0, 1e-12);
+}
+
+// The default size is one budget for the whole input, shared by area: h is that of one quad per
+// 8 triangles of the whole input (1,000 to 20,000), each component is split 1-to-4 until it has
+// 8 triangles per quad of that size, and its layout aims at a quad per 8 of those triangles
+// within its share of [1,000, 20,000]. 18 small spheres of 80 triangles (1,280 after two
+// splits) get about 160 quads each, 2,880 together; each alone would have asked for at least
+// 1,000. With a default per component, and the layout's own default on each subdivided
+// surface, 1,368 triangles in 18 components asked for 43,745 quads and ran past two minutes.
+TEST(Remesh, DefaultSizeIsOneBudgetSharedByTheComponents) {
+  const PolyMesh sphere = test::icosphere(1);
+  PolyMesh input;
+  for (uint32_t k = 0; k < 18; ++k) {
+    const uint32_t base = uint32_t(input.positions.size());
+    for (const Vec3& p : sphere.positions)
+      input.positions.push_back(p + Vec3{3.0 * (k % 6), 3.0 * (k / 6), 0});
+    for (std::size_t f = 0; f < sphere.num_faces(); ++f)
+      input.add_face(
+          {base + sphere.face(f)[0], base + sphere.face(f)[1], base + sphere.face(f)[2]});
+  }
+  ASSERT_EQ(input.num_faces(), 1440u);
+  ASSERT_EQ(default_quad_count(input.num_faces()), 1000.0);  // the count h is taken from
+  const double budget = 18 * 80 * 16 / 8.0;                  // 2,880
+  const RemeshRun run = remesh_run(input, RemeshOptions{});
+  ASSERT_EQ(run.runs.size(), 18u);
+  for (const ComponentRun& r : run.runs) {
+    EXPECT_NEAR(r.area_share, 1.0 / 18, 1e-9);
+    EXPECT_EQ(r.subdivisions, 2u);
+    // A quad per 8 triangles of the surface the layout works on (more where the patches' floor
+    // asks, layout.hpp kFloorMargin), not the 1,000 of the unshared default.
+    EXPECT_GE(r.layout.quads_aim, r.seg.refined.mesh.num_faces() / 8.0);
+    EXPECT_LT(r.layout.quads_aim, 2 * budget / 18);
+    EXPECT_LT(r.quads.quads.size(), 2 * budget / 18);  // the rounds may double the quads at most
+  }
+  const QualityReport q = measure_quality(run.result.quads, &input);
+  EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.topology.components, 18u);
+  EXPECT_GT(run.result.quads.num_faces(), 0.5 * budget);
+  EXPECT_LT(run.result.quads.num_faces(), 1.2 * budget);
+}
+
+// A component too small for patches is remeshed, not dropped: each triangle split into three
+// quads, conforming, of the same topology and orientation. A lone triangle gives 3 quads.
+TEST(Remesh, LoneTriangleGivesThreeQuads) {
+  PolyMesh tri;
+  tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  tri.add_face({0, 1, 2});
+  const RemeshRun run = remesh_run(tri, RemeshOptions{});
+  const PolyMesh& quads = run.result.quads;
+  ASSERT_EQ(quads.num_faces(), 3u);
+  EXPECT_EQ(quads.num_vertices(), 7u);  // 3 corners, 3 midpoints, the centroid
+  const QualityReport q = measure_quality(quads, &tri);
+  EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  for (std::size_t f = 0; f < 3; ++f) {  // counter-clockwise, as the triangle (+z)
+    const auto v = quads.face(f);
+    const Vec3 n = cross(quads.positions[v[1]] - quads.positions[v[0]],
+                         quads.positions[v[3]] - quads.positions[v[0]]);
+    EXPECT_GT(n.z, 0) << f;
+  }
+  ASSERT_EQ(run.warnings.size(), 1u);
+  EXPECT_EQ(run.warnings[0].code, "W109");
+}
+
+// A sphere and a tetrahedron (4 faces, dropped before): both components are in the output,
+// the tetrahedron as 12 quads, and the whole is valid as every remesh output is; the JSON says
+// which component took that path.
+TEST(Remesh, SphereAndTetrahedronKeepBothComponents) {
+  PolyMesh input = test::icosphere(2);
+  const uint32_t n = uint32_t(input.positions.size());
+  input.positions.insert(input.positions.end(), {{3, 0, 0}, {4, 0, 0}, {3, 1, 0}, {3, 0, 1}});
+  for (const std::array<uint32_t, 3>& t :
+       {std::array<uint32_t, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}})
+    input.add_face({n + t[0], n + t[1], n + t[2]});
+  RemeshOptions o;
+  o.quads = 300;
+  const RemeshRun run = remesh_run(input, o);
+  ASSERT_EQ(run.runs.size(), 2u);
+  EXPECT_FALSE(run.runs[0].triangle_split);
+  EXPECT_TRUE(run.runs[1].triangle_split);
+  EXPECT_EQ(run.runs[1].quads.quads.size(), 12u);
+  EXPECT_EQ(run.runs[0].area_share, 1.0);  // the whole count for the sphere
+  const QualityReport q = measure_quality(run.result.quads, &input);
+  EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.topology.components, 2u);
+  EXPECT_EQ(q.topology.euler, 4);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  const auto report = nlohmann::json::parse(run.result.report);
+  EXPECT_EQ(report["components"][1]["triangle_split"], true);
+  EXPECT_EQ(report["components"][1]["quads"], 12);
+  EXPECT_EQ(report["components"][0]["triangle_split"], false);
+  // Patch ids: the sphere's, then one per tetrahedron face.
+  std::set<int32_t> tet_patches(run.result.quads.face_group.end() - 12,
+                                run.result.quads.face_group.end());
+  EXPECT_EQ(tet_patches.size(), 4u);
+  EXPECT_EQ(*tet_patches.begin(), int32_t(run.runs[0].layout.charts.size()));
 }
 
 TEST(Smooth, KeepsVerticesOnTheSurfaceAndUnfolds) {

@@ -6,6 +6,7 @@
 
 #include "field/cross_field.hpp"
 #include "field/feature_curves.hpp"
+#include "field/field_segment.hpp"
 #include "field/trace.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
@@ -267,18 +268,31 @@ TEST(Trace, LPlateConcaveCornerCutsItIntoThree) {
   }
 }
 
-TEST(Trace, SphereSeparatricesAllEndOnTracks) {
+TEST(Trace, SphereSeparatricesAllEndOnTracksOrSingularities) {
   const PreparedComponent c = prepared(test::icosphere(4));
   const CrossField cf = field_of(c);
   ASSERT_EQ(cf.singular.size(), 8u);
   const TraceResult r = traces_of(cf, edge_length_for_quads(c.mesh, 200));
   EXPECT_EQ(r.ray_mismatches, 0u);
-  EXPECT_EQ(r.traces.size(), 24u);  // three per +1/4 singularity
+  // Three rays per +1/4 singularity: each one traced, or the far end of a connection (a
+  // separatrix from singularity to singularity, traced once), or deleted beside a parallel trace.
+  EXPECT_EQ(r.traces.size() + r.connections + r.deleted, 24u);
+  EXPECT_GT(r.connections, 0u);
+  uint32_t at_nodes = 0;
   for (const Trace& t : r.traces) {
-    EXPECT_EQ(t.end, TraceEnd::track);
-    EXPECT_NE(t.end_trace, kInvalid);
+    EXPECT_TRUE(t.end == TraceEnd::track || t.end == TraceEnd::node);
     EXPECT_EQ(t.points.size(), t.faces.size() + 1);
+    if (t.end == TraceEnd::track) {
+      EXPECT_NE(t.end_trace, kInvalid);
+      continue;
+    }
+    ++at_nodes;
+    // A connection ends at another singular vertex, exactly at it.
+    EXPECT_NE(t.end_vertex, t.source);
+    EXPECT_NE(std::find(cf.singular.begin(), cf.singular.end(), t.end_vertex), cf.singular.end());
+    EXPECT_LT(norm(position_on(c.mesh, t.points.back()) - c.mesh.position(t.end_vertex)), 1e-12);
   }
+  EXPECT_EQ(at_nodes, r.connections);
   // The same input gives the same traces.
   const TraceResult again = traces_of(cf, edge_length_for_quads(c.mesh, 200));
   ASSERT_EQ(again.traces.size(), r.traces.size());
@@ -292,4 +306,21 @@ TEST(Trace, TorusHasNoNodes) {
   const PreparedComponent c = prepared(test::torus(48, 16));
   const CrossField cf = field_of(c);
   EXPECT_TRUE(traces_of(cf, 0.1).nodes.empty());
+}
+
+// A torus has no node, so no trace and one patch that is not a disk: two seeds far apart, each
+// closing a loop around the tube and joining the other along it, cut it into four disks whose
+// corners are all the traces' (FIELD_LAYOUT.md §4).
+TEST(FieldSegment, TorusIsCutIntoFourDisksBySeeds) {
+  const PreparedComponent c = prepared(test::torus(48, 16));
+  FieldLayoutLog log;
+  const FieldSegmentation fs =
+      field_segment(c.mesh, c.feature, edge_length_for_quads(c.mesh, 400), log);
+  ASSERT_TRUE(log.failure.empty()) << log.failure;
+  EXPECT_EQ(log.singularities, 0u);
+  EXPECT_EQ(log.seeds, 2u);
+  EXPECT_EQ(fs.seg.num_patches, 4u);
+  EXPECT_EQ(log.free_corner_patches, 0u);
+  ASSERT_EQ(fs.corners.size(), 4u);
+  for (const auto& corners : fs.corners) EXPECT_NE(corners, kFreeCorners);
 }

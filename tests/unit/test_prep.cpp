@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <cmath>
+#include <map>
 
 #include <numbers>
 
@@ -14,15 +15,6 @@
 using namespace isoquad;
 
 namespace {
-
-std::string error_code(const PolyMesh& m, PrepOptions o = {}) {
-  try {
-    prepare(m, o);
-  } catch (const Error& e) {
-    return e.code();
-  }
-  return "accepted";
-}
 
 double signed_volume(const TriMesh& m) {
   double v = 0;
@@ -123,7 +115,7 @@ TEST(Prepare, QuadsBentBeyondTheToleranceAreNotFlipped) {
     m.positions = {{0, 0, 0}, {4, 0, 0}, {2, 0.2, lift}, {2, -0.2, lift}};
     m.add_face({0, 1, 2});
     m.add_face({1, 0, 3});
-    const PreparedMesh p = prepare(m, {.min_component_faces = 1});
+    const PreparedMesh p = prepare(m);
     EXPECT_EQ(p.report.components[0].flat_flips, lift == 0 ? 1u : 0u) << "lift " << lift;
     EXPECT_NEAR(p.report.components[0].area, 0.8, 1e-4);
   }
@@ -179,7 +171,7 @@ TEST(Prepare, NonManifoldEdgeIsRejectedOrDetached) {
   m.add_face({1, 0, 3});
   m.add_face({0, 1, 4});
   try {
-    prepare(m, {.min_component_faces = 1});
+    prepare(m);
     FAIL() << "accepted a non-manifold edge";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), "E101");
@@ -188,7 +180,7 @@ TEST(Prepare, NonManifoldEdgeIsRejectedOrDetached) {
     EXPECT_NE(std::string(e.what()).find("--repair"), std::string::npos);
     EXPECT_EQ(e.context().faces, (std::vector<uint32_t>{0, 1, 2}));
   }
-  const PreparedMesh p = prepare(m, {.repair = true, .min_component_faces = 1});
+  const PreparedMesh p = prepare(m, {.repair = true});
   EXPECT_EQ(p.report.non_manifold_edges, 1u);
   ASSERT_EQ(p.components.size(), 2u);  // the pair that stays glued, and the detached face
   EXPECT_EQ(p.components[0].mesh.num_faces(), 2u);
@@ -202,7 +194,7 @@ TEST(Prepare, BowTieVertexIsSplit) {
   m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
   m.add_face({0, 1, 2});
   m.add_face({0, 3, 4});
-  const PreparedMesh p = prepare(m, {.min_component_faces = 1});
+  const PreparedMesh p = prepare(m);
   EXPECT_EQ(p.report.split_vertices, 1u);
   ASSERT_EQ(p.components.size(), 2u);
   EXPECT_EQ(p.components[0].mesh.num_vertices() + p.components[1].mesh.num_vertices(), 6u);
@@ -265,6 +257,73 @@ TEST(Prepare, CoincidentInteriorVerticesAreNotWelded) {
   EXPECT_EQ(p.components[1].mesh.euler_characteristic(), 2);
 }
 
+// Welding coincident boundary vertices that changes the topology is a repair: done with
+// --repair only (a mesh with 106 holes had 105 after it, without a word). A plate whose hole
+// is filled by a lid with its own vertices: welding closes the hole (3 boundary loops -> 1).
+TEST(Prepare, WeldThatClosesAHoleIsDoneOnlyWithRepair) {
+  const PolyMesh grid = test::grid_plate(10, 10);
+  PolyMesh m;
+  m.positions = grid.positions;
+  std::map<uint32_t, uint32_t> lid;  // the lid's own copy of each of its vertices
+  for (std::size_t f = 0; f < grid.num_faces(); ++f) {
+    Vec3 c;
+    for (const uint32_t v : grid.face(f)) c += grid.positions[v] / 3.0;
+    std::vector<uint32_t> vs(grid.face(f).begin(), grid.face(f).end());
+    if (std::fabs(c.x - 0.5) < 0.2 && std::fabs(c.y - 0.5) < 0.2)
+      for (uint32_t& v : vs) {
+        if (!lid.count(v)) {
+          lid[v] = uint32_t(m.positions.size());
+          m.positions.push_back(grid.positions[v]);
+        }
+        v = lid[v];
+      }
+    m.add_face(vs);
+  }
+  const auto loops = [](const PreparedMesh& p) {
+    uint32_t n = 0;
+    for (const ComponentReport& c : p.report.components) n += c.boundary_loops;
+    return n;
+  };
+  const PreparedMesh kept = prepare(m);
+  EXPECT_EQ(kept.components.size(), 2u);
+  EXPECT_EQ(loops(kept), 3u);
+  EXPECT_EQ(kept.report.welded_vertices, 0u);
+  ASSERT_FALSE(kept.report.issues.empty());
+  EXPECT_EQ(kept.report.issues[0].code, "W112") << kept.report.issues[0].message;
+  for (const InputIssue& i : kept.report.issues) EXPECT_NE(i.code, "W104") << i.message;
+  const PreparedMesh welded = prepare(m, {.repair = true});
+  EXPECT_EQ(welded.components.size(), 1u);
+  EXPECT_EQ(loops(welded), 1u);
+  EXPECT_GT(welded.report.welded_vertices, 0u);
+}
+
+// Two holes touching at a point, the point a vertex of each cell beside it (coincident copies):
+// the hole count stays as it came, the copies stay apart, and that is said (W112).
+TEST(Prepare, HolesTouchingAtCoincidentVerticesKeepTheirCount) {
+  const PolyMesh grid = test::grid_plate(4, 4);
+  PolyMesh m;
+  m.positions = grid.positions;
+  const uint32_t p = 2 * 5 + 2;  // (0.5, 0.5), where the holes touch
+  m.positions.push_back(grid.positions[p]);
+  const uint32_t copy = uint32_t(m.positions.size() - 1);
+  for (std::size_t f = 0; f < grid.num_faces(); ++f) {
+    const uint32_t cell = uint32_t(f / 2), i = cell % 4, j = cell / 4;
+    if ((i == 1 && j == 1) || (i == 2 && j == 2)) continue;  // the two holes
+    std::vector<uint32_t> vs(grid.face(f).begin(), grid.face(f).end());
+    if (i == 2 && j == 1)
+      for (uint32_t& v : vs)
+        if (v == p) v = copy;
+    m.add_face(vs);
+  }
+  const PreparedMesh kept = prepare(m);
+  ASSERT_EQ(kept.components.size(), 1u);
+  EXPECT_EQ(kept.report.components[0].boundary_loops, 2u);  // the outer one and the holes'
+  EXPECT_EQ(kept.report.welded_vertices, 0u);
+  EXPECT_EQ(kept.report.split_vertices, 0u);
+  ASSERT_EQ(kept.report.issues.size(), 1u);
+  EXPECT_EQ(kept.report.issues[0].code, "W112");
+}
+
 TEST(Prepare, OrientationIsMadeConsistentAndOutward) {
   PolyMesh m = test::icosphere(2);
   PolyMesh flipped;
@@ -317,7 +376,7 @@ TEST(Prepare, PolygonsAreTriangulatedWithoutLosingArea) {
   PolyMesh l;  // an L-shaped (non-convex) hexagon
   l.positions = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
   l.add_face({0, 1, 2, 3, 4, 5});
-  const PreparedMesh p = prepare(l, {.min_component_faces = 1});
+  const PreparedMesh p = prepare(l);
   const TriMesh& m = p.components[0].mesh;
   EXPECT_EQ(m.num_faces(), 4u);
   EXPECT_NEAR(p.report.components[0].area, 3.0, 1e-12);
@@ -325,19 +384,62 @@ TEST(Prepare, PolygonsAreTriangulatedWithoutLosingArea) {
   EXPECT_EQ(m.boundary_loops()[0].size(), 6u);
 }
 
-TEST(Prepare, TinyComponentsAreDroppedAndNothingLeftIsAnError) {
+// Small components are kept (the pipeline splits their triangles into quads); they were dropped
+// under 10 faces, and a lone triangle was E103.
+TEST(Prepare, TinyComponentsAreKept) {
   PolyMesh m = test::icosphere(1);
   const uint32_t n = uint32_t(m.positions.size());
   m.positions.insert(m.positions.end(), {{5, 0, 0}, {6, 0, 0}, {5, 1, 0}});
   m.add_face({n, n + 1, n + 2});
   const PreparedMesh p = prepare(m);
-  EXPECT_EQ(p.components.size(), 1u);
-  EXPECT_EQ(p.report.components.size(), 2u);
-  EXPECT_FALSE(p.report.components[1].kept);
+  ASSERT_EQ(p.components.size(), 2u);
+  EXPECT_TRUE(p.report.components[1].kept);
+  EXPECT_EQ(p.components[1].mesh.num_faces(), 1u);
+  EXPECT_TRUE(p.report.issues.empty());
   PolyMesh single;
   single.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   single.add_face({0, 1, 2});
-  EXPECT_EQ(error_code(single), "E103");
+  EXPECT_EQ(prepare(single).components.size(), 1u);
+}
+
+// A component without area for its size has no surface for quads: collinear faces beside a
+// sphere (remesh crashed, SIGSEGV), or a sphere with one vertex at 1e100 (CLP aborted) or 1e20
+// (E501 after the layout), which `info` accepted. Rejected as E103, naming the component and
+// the vertex farthest from its centroid; listed when diagnosing. A vertex at 1e3 leaves area.
+TEST(Prepare, ComponentWithoutAreaIsRejected) {
+  PolyMesh m = test::icosphere(2);
+  const uint32_t n = uint32_t(m.positions.size());
+  for (uint32_t i = 0; i < 15; ++i) m.positions.push_back({5.0 + i, 0, 0});
+  for (uint32_t i = 0; i < 13; ++i) m.add_face({n + i, n + i + 1, n + i + 2});
+  try {
+    prepare(m);
+    FAIL() << "accepted a component without area";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), "E103");
+    EXPECT_NE(std::string(e.what()).find("component 1 has no area"), std::string::npos) << e.what();
+    ASSERT_EQ(e.context().vertices.size(), 1u);
+    const uint32_t end = e.context().vertices[0];
+    EXPECT_TRUE(end == n || end == n + 14) << end;  // an end of the line
+  }
+  const PreparedMesh listed = prepare(m, {.diagnose = true});
+  EXPECT_EQ(listed.components.size(), 1u);  // the sphere
+  EXPECT_FALSE(listed.report.components.at(1).kept);
+  ASSERT_TRUE(listed.report.has_errors());
+  for (const double far : {1e20, 1e100}) {
+    PolyMesh spike = test::icosphere(2);
+    spike.positions[7] = {far, 0, 0};
+    try {
+      prepare(spike);
+      FAIL() << "accepted a sphere with a vertex at " << far;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), "E103") << far;
+      EXPECT_NE(std::string(e.what()).find("input vertex 7 at ("), std::string::npos) << e.what();
+      EXPECT_EQ(e.context().vertices, (std::vector<uint32_t>{7}));
+    }
+  }
+  PolyMesh near = test::icosphere(2);
+  near.positions[7] = {1e3, 0, 0};
+  EXPECT_EQ(prepare(near).components.size(), 1u);
 }
 
 TEST(Prepare, NormalizationRoundTrip) {
