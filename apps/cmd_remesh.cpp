@@ -9,35 +9,14 @@
 #include "io/read_mesh.hpp"
 #include "io/write_mesh.hpp"
 #include "pipeline/remesh.hpp"
-#include "prep_options.hpp"
+#include "remesh_args.hpp"
 #include "report/report.hpp"
 
 namespace isoquad::cli {
 
-namespace {
-
-struct RemeshArgs {
-  std::string input, output, report_dir, weights = "smvc", relax = "adaptive", corners = "global",
-                                         segmentation = "vsa";
-  PatchArgs patch;
-  bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
-       split_patches = false, no_tip_split = false, no_refine = false, no_patch_rounds = false,
-       no_misfit_split = false;
-  uint32_t smooth = 0, fold_rounds = 2, threads = 0;
-  double tolerance = RemeshOptions{}.tolerance;
-  uint32_t tolerance_rounds = RemeshOptions{}.tolerance_rounds;
-  std::vector<double> view;
-  int report_width = 1200;
-  PrepArgs prep;
-};
-
-}  // namespace
-
-Runner add_remesh(CLI::App& app) {
-  auto a = std::make_shared<RemeshArgs>();
-  CLI::App* sub = app.add_subcommand("remesh", "Remesh a triangle mesh into a pure quad mesh");
-  sub->add_option("input", a->input, "Input mesh (OBJ, OFF, PLY, STL)")->required();
-  sub->add_option("-o,--output", a->output, "Quad mesh (OBJ, OFF or PLY)")->required();
+void add_remesh_options(CLI::App& app, RemeshArgs& args) {
+  CLI::App* sub = &app;
+  RemeshArgs* a = &args;
   add_patch_options(*sub, a->patch);
   sub->add_option("--weights", a->weights, "smvc (symmetrized, SPD) or mvc (the paper's)")
       ->check(CLI::IsMember({"smvc", "mvc"}))
@@ -126,9 +105,6 @@ Runner add_remesh(CLI::App& app) {
                   "Worker threads at most (0: one per core); the output is the same for any count")
       ->check(number_in(0, 1e6, "a thread count (0: one per core)"))
       ->capture_default_str();
-  sub->add_option("--report", a->report_dir,
-                  "Write pictures (Figures 1 and 3 of the paper), layout.svg, report.json and "
-                  "index.html into this folder");
   sub->add_option("--view", a->view,
                   "Viewing direction x y z for the report's pictures (default: the three-quarter "
                   "view that shows the most surface)")
@@ -136,59 +112,80 @@ Runner add_remesh(CLI::App& app) {
   sub->add_option("--report-width", a->report_width, "Width of each report picture in pixels")
       ->check(CLI::Range(200, 4000))
       ->capture_default_str();
+  add_prep_options(*sub, a->prep);
+}
+
+RemeshOptions remesh_options(const RemeshArgs& a) {
+  RemeshOptions o = a.prep.remesh_options();
+  o.patches = a.patch.patches;
+  o.edge_length = a.patch.edge_length;
+  o.quads = a.patch.quads;
+  o.seed = a.patch.seed;
+  o.paper_weights = a.weights == "mvc";
+  o.relax = a.relax;
+  o.segmentation = a.segmentation;
+  o.local_corners = a.corners == "local";
+  o.smooth = a.smooth;
+  o.untangle = !a.no_untangle;
+  o.snap = !a.no_snap;
+  o.fold_rounds = a.fold_rounds;
+  o.split_patches = a.split_patches;
+  o.tip_split = !a.no_tip_split;
+  o.refine = !a.no_refine;
+  o.patch_rounds = !a.no_patch_rounds;
+  o.misfit_split = !a.no_misfit_split;
+  o.tolerance = a.tolerance;
+  o.tolerance_rounds = a.tolerance_rounds;
+  o.improve_corners = a.improve_corners;
+  o.threads = a.threads;
+  return o;
+}
+
+std::string remesh_file(const RemeshArgs& a, const std::string& input, const std::string& output,
+                        const std::string& report_dir, bool quality, const Say& say) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_mesh_output(output);
+  if (!report_dir.empty()) check_output_folder(report_dir);
+  const ReadResult read = read_mesh(input, a.prep.read_options());
+  say(fmt::format("read {}: {} vertices, {} faces", input, read.mesh.num_vertices(),
+                  read.mesh.num_faces()));
+  RemeshOptions o = remesh_options(a);
+  o.quality = quality || !report_dir.empty();
+  const RemeshRun run = remesh_run(read.mesh, o, read.unshared_vertices, say);
+  const PolyRemesh& r = run.result;
+  write_mesh(output, r.quads);
+  if (!report_dir.empty()) {
+    ReportOptions ro;
+    if (a.view.size() == 3) ro.view = Vec3{a.view[0], a.view[1], a.view[2]};
+    ro.width = a.report_width;
+    ro.title = input;
+    const auto t1 = std::chrono::steady_clock::now();
+    const ReportFiles files = write_report(report_dir, read.mesh, run, ro);
+    say(fmt::format("wrote {} report files to {} ({:.2f} s)", files.names.size(), report_dir,
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count()));
+  }
+  say(fmt::format("wrote {} quads to {} ({:.2f} s in all)", r.quads.num_faces(), output,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
+  return r.report;
+}
+
+Runner add_remesh(CLI::App& app) {
+  auto a = std::make_shared<RemeshArgs>();
+  CLI::App* sub = app.add_subcommand("remesh", "Remesh a triangle mesh into a pure quad mesh");
+  sub->add_option("input", a->input, "Input mesh (OBJ, OFF, PLY, STL)")->required();
+  sub->add_option("-o,--output", a->output, "Quad mesh (OBJ, OFF or PLY)")->required();
+  add_remesh_options(*sub, *a);
+  sub->add_option("--report", a->report_dir,
+                  "Write pictures (Figures 1 and 3 of the paper), layout.svg, report.json and "
+                  "index.html into this folder");
   sub->add_flag("--json", a->json, "Print the run and quality report as JSON");
   sub->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
-  add_prep_options(*sub, a->prep);
   return [a] {
-    const auto t0 = std::chrono::steady_clock::now();
-    auto say = [&](const std::string& s) {
-      if (!a->quiet) fmt::print(stderr, "{}\n", s);
-    };
-    check_mesh_output(a->output);
-    if (!a->report_dir.empty()) check_output_folder(a->report_dir);
-    const ReadResult read = read_mesh(a->input, a->prep.read_options());
-    say(fmt::format("read {}: {} vertices, {} faces", a->input, read.mesh.num_vertices(),
-                    read.mesh.num_faces()));
-    RemeshOptions o = a->prep.remesh_options();
-    o.patches = a->patch.patches;
-    o.edge_length = a->patch.edge_length;
-    o.quads = a->patch.quads;
-    o.seed = a->patch.seed;
-    o.paper_weights = a->weights == "mvc";
-    o.relax = a->relax;
-    o.segmentation = a->segmentation;
-    o.local_corners = a->corners == "local";
-    o.smooth = a->smooth;
-    o.untangle = !a->no_untangle;
-    o.snap = !a->no_snap;
-    o.fold_rounds = a->fold_rounds;
-    o.split_patches = a->split_patches;
-    o.tip_split = !a->no_tip_split;
-    o.refine = !a->no_refine;
-    o.patch_rounds = !a->no_patch_rounds;
-    o.misfit_split = !a->no_misfit_split;
-    o.tolerance = a->tolerance;
-    o.tolerance_rounds = a->tolerance_rounds;
-    o.improve_corners = a->improve_corners;
-    o.threads = a->threads;
-    o.quality = a->json || !a->report_dir.empty();
-    const RemeshRun run = remesh_run(read.mesh, o, read.unshared_vertices, say);
-    const PolyRemesh& r = run.result;
-    write_mesh(a->output, r.quads);
-    if (!a->report_dir.empty()) {
-      ReportOptions ro;
-      if (a->view.size() == 3) ro.view = Vec3{a->view[0], a->view[1], a->view[2]};
-      ro.width = a->report_width;
-      ro.title = a->input;
-      const auto t1 = std::chrono::steady_clock::now();
-      const ReportFiles files = write_report(a->report_dir, read.mesh, run, ro);
-      say(fmt::format(
-          "wrote {} report files to {} ({:.2f} s)", files.names.size(), a->report_dir,
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count()));
-    }
-    say(fmt::format("wrote {} quads to {} ({:.2f} s in all)", r.quads.num_faces(), a->output,
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
-    if (a->json) std::cout << r.report << '\n';
+    const std::string report =
+        remesh_file(*a, a->input, a->output, a->report_dir, a->json, [&](const std::string& s) {
+          if (!a->quiet) fmt::print(stderr, "{}\n", s);
+        });
+    if (a->json) std::cout << report << '\n';
     return 0;
   };
 }

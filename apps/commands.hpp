@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace isoquad::cli {
 
@@ -17,5 +19,9 @@ Runner add_remesh(CLI::App& app);
 Runner add_quality(CLI::App& app);
 Runner add_render(CLI::App& app);
 Runner add_field(CLI::App& app);
+Runner add_batch(CLI::App& app);
+
+// The command line as given (argv[0] first): batch starts a process of its own per file with it.
+const std::vector<std::string>& command_line();
 
 }  // namespace isoquad::cli

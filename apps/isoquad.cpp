@@ -68,9 +68,14 @@ std::string unknown_word(const CLI::App& app, int argc, char** argv) {
   return "";
 }
 
+std::vector<std::string> given_command_line;
+
 }  // namespace
 
+const std::vector<std::string>& isoquad::cli::command_line() { return given_command_line; }
+
 int main(int argc, char** argv) {
+  given_command_line.assign(argv, argv + argc);
   isoquad::tune_allocator();
   CLI::App app{"isoquad: triangle mesh to pure quad mesh by temperature contours"};
   app.require_subcommand(1);
@@ -89,6 +94,7 @@ int main(int argc, char** argv) {
   add(isoquad::cli::add_remesh);
   add(isoquad::cli::add_quality);
   add(isoquad::cli::add_render);
+  add(isoquad::cli::add_batch);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace isoquad {
@@ -30,11 +31,14 @@ struct RemeshOptions {
   double feature_angle_deg = 60;  // dihedral angle above which edges are creases (0: none)
   bool repair = false;            // detach non-manifold edges, drop degenerate faces
   double weld_epsilon = 0;        // weld boundary vertices this close (of the diagonal; 0-0.1)
-  uint32_t smooth = 0;            // tangential smoothing iterations on the surface
-  bool untangle = true;           // move corners of quads folded against the surface
-  bool snap = true;               // move corners onto tips the quads cut off (extract/snap.hpp)
-  uint32_t fold_rounds = 2;       // more quads across patches still folded, re-solved this often
-  bool split_patches = false;     // every patch four-sided first (the paper's §5 repair)
+  // Weld every vertex onto another at the same position first: for STL files, whose faces each
+  // have their own vertices (MeshArrays::unshared_vertices, isoquad/io.hpp).
+  bool weld_all = false;
+  uint32_t smooth = 0;         // tangential smoothing iterations on the surface
+  bool untangle = true;        // move corners of quads folded against the surface
+  bool snap = true;            // move corners onto tips the quads cut off (extract/snap.hpp)
+  uint32_t fold_rounds = 2;    // more quads across patches still folded, re-solved this often
+  bool split_patches = false;  // every patch four-sided first (the paper's §5 repair)
   // Where the quads are farther than 1% of the diagonal (or `tolerance`) from the surface, make
   // the surface vertices where they cut off a tip or bridge a valley patch corners and run
   // again; keep the closer run with no more folded quads.
@@ -58,6 +62,19 @@ struct RemeshOptions {
   uint32_t threads = 0;  // worker threads at most (0: all cores); same output for any
 };
 
+// How far a run is, for a progress bar. `fraction` in [0, 1] never goes down within a run and
+// ends at 1. `stage`: "prepare" (validation and repairs), "component" (the stages of one
+// connected component: segmentation, layout, map, quads and their repairs, reported when the
+// component begins and ends, sized by its share of the faces), "quality" (the measurements of
+// the report) and "done". `message` is the line `isoquad remesh` prints, or empty.
+struct Progress {
+  double fraction = 0;
+  std::string stage;
+  std::string message;
+};
+// Called on the caller's thread. An exception thrown from it ends the run and propagates.
+using ProgressCallback = std::function<void(const Progress&)>;
+
 struct RemeshResult {
   Eigen::MatrixXd V;      // quad mesh vertices, on the input surface
   Eigen::MatrixXi Q;      // quads
@@ -65,12 +82,14 @@ struct RemeshResult {
   std::string report;     // JSON: per-component stages, counts, timings; quality
 };
 
+// F is #F x 3, or #F x k for polygons (each row ends at its first -1, as read_mesh_arrays
+// gives them; they are triangulated as the command line triangulates them).
 // \throw Error(invalid_input) E003 an option out of its range (quads neither 0 nor at least 1,
 //        a negative or non-finite edge length, both of them, a feature angle outside [0, 180],
 //        ...), E020 wrong shapes or an index out of range, E013 a NaN or infinite coordinate;
 //        and the errors of the stages (README).
 RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                    const RemeshOptions& options = {});
+                    const RemeshOptions& options = {}, const ProgressCallback& progress = {});
 
 // Makes the C library keep freed memory for reuse instead of handing large blocks back to the
 // kernel (glibc's mmap and trim thresholds; elsewhere it does nothing). A remesh allocates and

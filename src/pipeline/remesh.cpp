@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "io/mesh_arrays.hpp"
 #include "io/report_json.hpp"
 #include "isoquad/error.hpp"
 #include "metrics/quality.hpp"
@@ -90,7 +91,7 @@ void warn(RemeshRun& run, InputIssue issue, const Say& say) {
 PrepOptions prep_options(const RemeshOptions& o, bool unshared_vertices) {
   PrepOptions po;
   po.repair = o.repair;
-  po.weld_all = unshared_vertices;
+  po.weld_all = unshared_vertices || o.weld_all;
   po.weld_epsilon = o.weld_epsilon;
   po.feature_angle_deg = o.feature_angle_deg;
   return po;
@@ -105,15 +106,27 @@ PreparedMesh check_input(const PolyMesh& input, const RemeshOptions& options,
 }
 
 PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
-                           const std::function<void(const std::string&)>& progress) {
-  return remesh_run(input, opt, unshared_vertices, progress).result;
+                           const std::function<void(const std::string&)>& progress,
+                           const ProgressCallback& advance) {
+  return remesh_run(input, opt, unshared_vertices, progress, advance).result;
 }
 
 RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unshared_vertices,
-                     const std::function<void(const std::string&)>& progress) {
+                     const std::function<void(const std::string&)>& progress,
+                     const ProgressCallback& advance) {
+  // How far the run is: preparation and the quality measurements a small share each, the
+  // components the rest, by their faces (the stages inside a component are not reported).
+  Progress at{0, "prepare", ""};
   auto say = [&](const std::string& s) {
     if (progress) progress(s);
+    if (advance) advance({at.fraction, at.stage, s});
   };
+  const auto reach = [&](double fraction, const char* stage) {
+    at.fraction = std::max(at.fraction, fraction);
+    at.stage = stage;
+    if (advance) advance(at);
+  };
+  reach(0, "prepare");
   // Parallel stages are deterministic: the thread count changes the time, not the output.
   std::optional<tbb::global_control> limit;
   if (opt.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, opt.threads);
@@ -122,6 +135,11 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   run.prep = check_input(input, opt, unshared_vertices);  // the options first, then the input
   const PreparedMesh& prep = run.prep;
   const double prep_s = seconds_since(t0);
+  constexpr double kPrepareShare = 0.05;
+  const double component_share = opt.quality ? 0.9 : 1 - kPrepareShare;
+  uint64_t faces = 0, faces_done = 0;
+  for (const PreparedComponent& c : prep.components) faces += c.mesh.num_faces();
+  at.fraction = kPrepareShare;
   say(fmt::format("prepared {} component{} ({:.0f} ms)", prep.components.size(),
                   prep.components.size() == 1 ? "" : "s", 1e3 * prep_s));
   for (const InputIssue& issue : prep.report.issues) warn(run, issue, say);
@@ -154,8 +172,15 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   std::vector<ComponentRun>& runs = run.runs;
   nlohmann::json comps = nlohmann::json::array();
   for (uint32_t c = 0; c < prep.components.size(); ++c) {
+    const auto component_done = [&] {
+      return kPrepareShare +
+             component_share * double(faces_done) / double(std::max<uint64_t>(faces, 1));
+    };
+    reach(component_done(), "component");
     runs.push_back(run_component(prep, c, o));
     const ComponentRun& r = runs.back();
+    faces_done += prep.components[c].mesh.num_faces();
+    at.fraction = component_done();
     if (r.triangle_split)
       warn(run,
            {InputIssue::Severity::warning, "W109",
@@ -376,36 +401,20 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                       {"warnings", run.warnings},
                       {"seconds", {{"prepare", prep_s}}}};
   if (opt.quality) {
+    reach(kPrepareShare + component_share, "quality");
     t0 = std::chrono::steady_clock::now();
     j["quality"] = measure_quality(out.quads, &input);
     j["seconds"]["quality"] = seconds_since(t0);
   }
   out.report = j.dump(2);
+  reach(1, "done");
   return run;
 }
 
 RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                    const RemeshOptions& options) {
-  if (V.cols() != 3 || F.cols() != 3)
-    throw Error(ErrorKind::invalid_input, "E020",
-                fmt::format("V must be #V x 3 and F #F x 3 (got {} x {} and {} x {})", V.rows(),
-                            V.cols(), F.rows(), F.cols()));
-  PolyMesh m;
-  m.positions.resize(std::size_t(V.rows()));
-  for (Eigen::Index i = 0; i < V.rows(); ++i) m.positions[i] = {V(i, 0), V(i, 1), V(i, 2)};
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k)
-      if (F(f, k) < 0 || F(f, k) >= V.rows()) {
-        ErrorContext where;
-        where.faces = {uint32_t(f)};
-        throw Error(
-            ErrorKind::invalid_input, "E020",
-            fmt::format("face {} refers to vertex {}, but V has {} rows", f, F(f, k), V.rows()),
-            where);
-      }
-    m.add_face({uint32_t(F(f, 0)), uint32_t(F(f, 1)), uint32_t(F(f, 2))});
-  }
-  const PolyRemesh r = remesh_polymesh(m, options);
+                    const RemeshOptions& options, const ProgressCallback& progress) {
+  const PolyMesh m = poly_mesh_from_arrays(V, F);
+  const PolyRemesh r = remesh_polymesh(m, options, false, {}, progress);
   RemeshResult out;
   out.V.resize(Eigen::Index(r.quads.num_vertices()), 3);
   for (std::size_t i = 0; i < r.quads.num_vertices(); ++i)

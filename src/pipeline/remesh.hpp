@@ -40,12 +40,16 @@ PrepOptions prep_options(const RemeshOptions& options, bool unshared_vertices);
 PreparedMesh check_input(const PolyMesh& input, const RemeshOptions& options,
                          bool unshared_vertices = false, bool diagnose = false);
 
+// `progress` gets every line as it is said; `advance` the same lines with how far the run is,
+// and the stage boundaries (isoquad::Progress).
 RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& options,
                      bool unshared_vertices = false,
-                     const std::function<void(const std::string&)>& progress = {});
+                     const std::function<void(const std::string&)>& progress = {},
+                     const ProgressCallback& advance = {});
 
 PolyRemesh remesh_polymesh(const PolyMesh& input, const RemeshOptions& options,
                            bool unshared_vertices = false,
-                           const std::function<void(const std::string&)>& progress = {});
+                           const std::function<void(const std::string&)>& progress = {},
+                           const ProgressCallback& advance = {});
 
 }  // namespace isoquad

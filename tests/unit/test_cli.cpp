@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "cli_run.hpp"
 #include "corpus.hpp"
 #include "io/write_mesh.hpp"
 #include "report_checks.hpp"
@@ -17,30 +18,8 @@
 
 namespace {
 
-struct CliRun {
-  int status;
-  std::string out, err;
-};
-
-// Runs a shell command, capturing its exit status, stdout and stderr.
-CliRun shell(const std::string& command) {
-  const auto dir = std::filesystem::temp_directory_path();
-  const std::string tag = std::to_string(::getpid()) + "_" +
-                          ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const auto out = dir / ("isoquad_cli_out_" + tag), err = dir / ("isoquad_cli_err_" + tag);
-  const std::string cmd = command + " >" + out.string() + " 2>" + err.string();
-  const int raw = std::system(cmd.c_str());
-  auto slurp = [](const std::filesystem::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
-  CliRun r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-  std::filesystem::remove(out);
-  std::filesystem::remove(err);
-  return r;
-}
+using isoquad::test::CliRun;
+using isoquad::test::shell;
 
 CliRun run(const std::string& args) { return shell(std::string(ISOQUAD_CLI_PATH) + " " + args); }
 
