@@ -268,29 +268,55 @@ struct TraceTurns {
   }
 };
 
+// The field's quarter turn at vertex v, as an angle on `mesh`: a right angle on a feature or the
+// boundary (the field follows them), else the cone angle (the sum of the triangle angles at v)
+// over the field's arm count there, 4 - 4 I_v (three arms of 120 degrees at a +1/4 singularity
+// of a flat surface, five of 72 at a -1/4 one).
+double quarter_angle(const TriMesh& mesh, const EdgeData<char>& feature,
+                     const VertexData<int32_t>& index4, uint32_t v) {
+  constexpr double kRight = std::numbers::pi / 2;
+  if (mesh.is_boundary_vertex(v)) return kRight;
+  bool on_feature = false;
+  double cone = 0;
+  mesh.for_each_outgoing(v, [&](uint32_t he) {
+    on_feature = on_feature || feature[mesh.edge(he)];
+    const Vec3 e1 = mesh.position(mesh.to(he)) - mesh.position(v);
+    const Vec3 e2 = mesh.position(mesh.from(TriMesh::prev(he))) - mesh.position(v);
+    cone += std::atan2(norm(cross(e1, e2)), dot(e1, e2));
+  });
+  const int32_t arms = v < index4.size() ? 4 - index4[v] : 4;
+  return on_feature || arms <= 0 ? kRight : cone / arms;
+}
+
 // Per patch, the cycle items at which it turns by a quarter (its corners); kFreeCorners for a
-// patch the disk repair changed, or that does not have exactly four or turns by three quarters
-// somewhere (the traces missed each other there). A patch's angle at a
-// meta-vertex is measured between its two sides at a distance of about h/2 (or half the side):
-// a traced side bends at the scale of a triangle where it meets a track, so the angle of the
-// triangles at the vertex says little.
-std::vector<std::array<uint32_t, 4>> patch_corners(const TriMesh& mesh,
-                                                   const FaceData<uint32_t>& labels,
-                                                   const MetaMesh& meta, double h,
-                                                   const TraceTurns& turns,
-                                                   const std::vector<char>& repaired) {
-  std::vector<std::array<uint32_t, 4>> corners(meta.faces.size(), kFreeCorners);
+// patch the disk repair changed, or that is not four-cornered in the field's sense. Two readings
+// of each turn: the traces' rules (TraceTurns, where they say something) and the patch's angle
+// between its two sides at a distance of about h/2 (or half the side; a traced side bends at the
+// scale of a triangle where it meets a track, so the triangles' angle at the vertex says little),
+// in the field's quarters there. The rules hold where the traces met as the field says; where a
+// stem met its track obliquely (two traces of one family converging near a singularity) or a
+// singularity's arm was merged, they miscount and the angles do not. The rules decide when they
+// give four corners, else the angles when they give four and no reflex turn.
+struct PatchCorners {
+  std::vector<std::array<uint32_t, 4>> corners;
+  std::vector<char> by_angles;
+};
+
+PatchCorners patch_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels,
+                           const MetaMesh& meta, double h, const TraceTurns& turns,
+                           const std::vector<char>& repaired, const EdgeData<char>& feature,
+                           const VertexData<int32_t>& index4) {
+  PatchCorners out;
+  out.corners.assign(meta.faces.size(), kFreeCorners);
+  out.by_angles.assign(meta.faces.size(), 0);
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
     if (repaired[p]) continue;
     const MetaFace& face = meta.faces[p];
     const std::size_t n = face.cycle.size();
-    std::vector<uint32_t> found;
+    std::vector<uint32_t> by_rules, by_angles;
+    bool rules_reflex = false, angles_reflex = false;
     for (uint32_t i = 0; i < n; ++i) {
       const uint32_t v = meta.vertices[face.start_vertex(i, meta.edges)].vertex;
-      if (const int known = turns(v, p)) {
-        if (known == 1) found.push_back(i);
-        continue;
-      }
       const BoundaryItem& out = face.cycle[i];
       const BoundaryItem& in = face.cycle[(i + n - 1) % n];
       const MetaEdge& eo = meta.edges[out.edge];
@@ -307,16 +333,21 @@ std::vector<std::array<uint32_t, 4>> patch_corners(const TriMesh& mesh,
       // The patch lies to the left of its cycle: its angle turns from b counter-clockwise to a.
       double angle = std::atan2(dot(normalized(normal), cross(b, a)), dot(b, a));
       if (angle <= 0) angle += 2 * std::numbers::pi;
-      const long q = std::lround(angle / (std::numbers::pi / 2));
-      if (q >= 3) {
-        found.clear();
-        break;
-      }
-      if (q <= 1) found.push_back(i);
+      const long q = std::lround(angle / quarter_angle(mesh, feature, index4, v));
+      angles_reflex = angles_reflex || q >= 3;
+      if (q <= 1) by_angles.push_back(i);
+      const int known = turns(v, p);
+      rules_reflex = rules_reflex || (!known && q >= 3);
+      if (known ? known == 1 : q <= 1) by_rules.push_back(i);
     }
-    if (found.size() == 4) std::copy(found.begin(), found.end(), corners[p].begin());
+    if (by_rules.size() == 4 && !rules_reflex) {
+      std::copy(by_rules.begin(), by_rules.end(), out.corners[p].begin());
+    } else if (by_angles.size() == 4 && !angles_reflex) {
+      std::copy(by_angles.begin(), by_angles.end(), out.corners[p].begin());
+      out.by_angles[p] = 1;
+    }
   }
-  return corners;
+  return out;
 }
 
 // Which patches of `after` are not one traced patch of `before`, face for face.
@@ -509,7 +540,11 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   measure_geodesic_lengths(seg.refined.mesh, seg.labels, seg.meta);
   seg.vsa_labels = seg.labels;
   const TraceTurns turns(seg.refined.mesh, seg.labels, *em, tr.partial_nodes);
-  out.corners = patch_corners(seg.refined.mesh, seg.labels, seg.meta, h, turns, repaired);
+  PatchCorners pc = patch_corners(seg.refined.mesh, seg.labels, seg.meta, h, turns, repaired,
+                                  seg.feature, cf.index4);
+  out.corners = std::move(pc.corners);
+  out.preferred = std::move(pc.by_angles);
+  log.angle_corner_patches = uint32_t(std::count(out.preferred.begin(), out.preferred.end(), 1));
   log.free_corner_patches =
       uint32_t(std::count(out.corners.begin(), out.corners.end(), kFreeCorners));
   log.embed_seconds += seconds_since(t0);

@@ -28,6 +28,7 @@ struct FieldLayoutLog {
   // Patches the traces leave without four corners, or that the disk repair (seg/disk_patches)
   // had to split, merge or relabel: their corners are left to the layout's corner program.
   uint32_t repaired_patches = 0, free_corner_patches = 0;
+  uint32_t angle_corner_patches = 0;  // patches whose corners were read from their angles
   double field_seconds = 0, trace_seconds = 0, embed_seconds = 0;
   std::string failure;  // why the layout cannot be used (empty: it can)
 };
@@ -37,6 +38,9 @@ struct FieldSegmentation {
   // Per patch, the cycle items (MetaFace::cycle indices, increasing) that are its corners;
   // kFreeCorners where the traces do not say (layout/ chooses them).
   std::vector<std::array<uint32_t, 4>> corners;
+  // Per patch, 1 where its corners were read from its angles, not from the traces' rules: a
+  // preference for layout/ (LayoutOptions::preferred_corners).
+  std::vector<char> preferred;
 };
 
 // The field-aligned patches of `mesh` for a target quad edge h (mesh units). Where a trace finds

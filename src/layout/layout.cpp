@@ -102,13 +102,27 @@ std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uin
   if (o.given_corners) {
     Feasible f;
     const auto& given = *o.given_corners;
-    if (std::find(given.begin(), given.end(), kFreeCorners) != given.end()) {
-      // The free patches choose among their candidates, the others keep what they were given,
+    const std::vector<char>* preferred = o.preferred_corners;
+    const bool choose =
+        std::find(given.begin(), given.end(), kFreeCorners) != given.end() ||
+        (preferred && std::find(preferred->begin(), preferred->end(), 1) != preferred->end());
+    if (choose) {
+      // The free patches choose among their candidates, the preferred ones too at a price, the
+      // others keep what they were given,
       // in one exact corner ILP that also asks for positive lengths.
       auto cands = corner_candidates(mesh, labels, meta, o.angle_weight, 4 * o.candidates_per_patch,
                                      unit, o.flat_corner_penalty, o.flat_crease_corner_penalty);
-      for (uint32_t p = 0; p < given.size(); ++p)
-        if (given[p] != kFreeCorners) cands[p] = {CornerCandidate{given[p], 0.0}};
+      for (uint32_t p = 0; p < given.size(); ++p) {
+        if (given[p] == kFreeCorners) continue;
+        if (!preferred || !(*preferred)[p]) {
+          cands[p] = {CornerCandidate{given[p], 0.0}};
+          continue;
+        }
+        std::vector<CornerCandidate> soft{CornerCandidate{given[p], 0.0}};
+        for (const CornerCandidate& c : cands[p])
+          if (c.items != given[p]) soft.push_back({c.items, c.cost + kPreferredCornersPenalty});
+        cands[p] = std::move(soft);
+      }
       try {
         f.corners = choose_corners(mesh, meta, cands, o, true);
       } catch (const Error& e) {

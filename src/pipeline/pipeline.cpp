@@ -197,6 +197,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
           if (run.field_log.failure.empty()) {
             run.seg = std::move(fs.seg);
             run.field_corners = std::move(fs.corners);
+            run.field_preferred = std::move(fs.preferred);
             run.field_used = true;
             return;
           }
@@ -229,6 +230,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   auto layout = [&] {
     run.layout_report = {};
     lo.given_corners = run.field_used && !run.quad_split ? &run.field_corners : nullptr;
+    lo.preferred_corners = lo.given_corners ? &run.field_preferred : nullptr;
     run.layout = solve_layout(run.seg.refined.mesh, run.seg.labels, run.seg.feature, run.seg.meta,
                               lo, run.layout_report);
   };

@@ -214,6 +214,7 @@ struct ComponentRun {
   // patches' corners, and what it found or why it failed.
   bool field_used = false;
   std::vector<std::array<uint32_t, 4>> field_corners;
+  std::vector<char> field_preferred;  // FieldSegmentation::preferred
   FieldLayoutLog field_log;
   std::optional<QuadSplitReport> quad_split;  // when the patches were split into quads
   Layout layout;

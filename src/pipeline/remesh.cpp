@@ -367,6 +367,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"patches", r.field_log.patches},
                        {"repaired_patches", r.field_log.repaired_patches},
                        {"free_corner_patches", r.field_log.free_corner_patches},
+                       {"angle_corner_patches", r.field_log.angle_corner_patches},
                        {"seconds",
                         {{"field", r.field_log.field_seconds},
                          {"trace", r.field_log.trace_seconds},
