@@ -193,10 +193,14 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
     Run:
       threads          worker threads at most (0: all cores); the output is the same for any
       quality          measure the quads against the input into report["quality"]
-      progress         called as progress(fraction, stage, message): fraction in [0, 1] never
-                       going down, stage "prepare", "component", "quality" or "done", message
-                       the line the command line prints (or ""). An exception it raises (and
-                       Ctrl-C) ends the run and is raised from remesh.
+      progress         called as progress(fraction, stage, message) as each stage begins and
+                       with each line said: fraction in [0, 1] never going down, stage
+                       "prepare", then per component "segment", "layout", "map", "extract",
+                       "repair" (repairs run the stages again: reported again), then
+                       "quality" and "done"; message the line the command line prints (or
+                       "" where a stage begins). Called on the thread that called remesh, with
+                       the GIL. An exception it raises (and Ctrl-C) ends the run and is raised
+                       from remesh.
 
     Raises ValueError for a bad array shape or dtype, and isoquad.Error subclasses for what the
     command line refuses: InputError (E003 an option out of its range, E020 an index out of
