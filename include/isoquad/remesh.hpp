@@ -58,6 +58,9 @@ struct RemeshOptions {
   // Hausdorff), at most tolerance_rounds times and to 4 times the first count (0: off).
   double tolerance = 0;
   uint32_t tolerance_rounds = 2;
+  // Quads whose topology (genus, boundary loops, connected pieces) differs from their input
+  // component's are an error (E603) unless this is set: then a warning (W113) in the report.
+  bool allow_topology_change = false;
   bool quality = true;   // measure the output against the input (in `report`)
   uint32_t threads = 0;  // worker threads at most (0: all cores); same output for any
 };
@@ -99,7 +102,8 @@ struct RemeshResult {
 // \throw Error(invalid_input) E003 an option out of its range (quads neither 0 nor at least 1,
 //        a negative or non-finite edge length, both of them, a feature angle outside [0, 180],
 //        ...), E020 wrong shapes or an index out of range, E013 a NaN or infinite coordinate;
-//        and the errors of the stages (README).
+//        Error(extraction) E603 a component's quads of another topology than the component
+//        (unless options.allow_topology_change); and the errors of the stages (README).
 RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                     const RemeshOptions& options = {}, const ProgressCallback& progress = {});
 

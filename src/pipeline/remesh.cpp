@@ -46,7 +46,8 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"tip_split", o.tip_split},
           {"refine", o.refine},
           {"patch_rounds", o.patch_rounds},
-          {"misfit_split", o.misfit_split}};
+          {"misfit_split", o.misfit_split},
+          {"allow_topology_change", o.allow_topology_change}};
 }
 
 // Every option out of its range is refused (E003) before any work, rather than read as the
@@ -88,6 +89,18 @@ void warn(RemeshRun& run, InputIssue issue, const Say& say) {
 }
 
 }  // namespace
+
+std::optional<InputIssue> check_component_topology(uint32_t component, const Topology& input,
+                                                   const Topology& quads, bool allow) {
+  const std::string change = topology_change(input, quads);
+  if (change.empty()) return std::nullopt;
+  const std::string what =
+      fmt::format("component {}: the quads' topology is not the input's ({})", component, change);
+  if (!allow)
+    throw Error(ErrorKind::extraction, "E603",
+                what + "; --allow-topology-change (allow_topology_change) keeps them");
+  return InputIssue{InputIssue::Severity::warning, "W113", what + ", kept as allowed", 1};
+}
 
 PrepOptions prep_options(const RemeshOptions& o, bool unshared_vertices) {
   PrepOptions po;
@@ -179,6 +192,14 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
     runs.push_back(run_component(prep, c, o));
     const ComponentRun& r = runs.back();
     meter.set_fraction(component_done());
+    const TriMesh& mesh = prep.components[c].mesh;
+    const Topology input_topology{mesh.euler_characteristic(), mesh.num_components(),
+                                  uint32_t(mesh.boundary_loops().size())};
+    if (const auto changed = check_component_topology(
+            prep.components[c].report_index, input_topology,
+            topology_of(as_poly(r.quads), nullptr, nullptr, nullptr, nullptr, nullptr),
+            opt.allow_topology_change))
+      warn(run, *changed, say);
     if (r.triangle_split)
       warn(run,
            {InputIssue::Severity::warning, "W109",

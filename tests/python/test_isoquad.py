@@ -91,6 +91,14 @@ class Remesh(unittest.TestCase):
                                           "repair", "quality", "done"])
                 self.assertTrue(any(m.startswith("component 0: segment") for _, _, m, _ in calls))
 
+    def test_allow_topology_change_is_passed_and_echoed(self):
+        V, F = isoquad.read(DATA / "sphere.off")
+        for allow in (False, True):
+            _, _, report = isoquad.remesh(V, F, quads=300, quality=False,
+                                          allow_topology_change=allow)
+            self.assertIs(report["options"]["allow_topology_change"], allow)
+            self.assertFalse(any(w["code"] == "W113" for w in report["warnings"]))
+
     def test_an_exception_in_the_progress_callback_ends_the_run(self):
         V, F = isoquad.read(DATA / "sphere.off")
 
