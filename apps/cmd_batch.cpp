@@ -25,6 +25,7 @@
 #include "commands.hpp"
 #include "io/write_mesh.hpp"
 #include "isoquad/error.hpp"
+#include "progress_bar.hpp"
 #include "remesh_args.hpp"
 
 extern char** environ;
@@ -152,8 +153,9 @@ void fill_from_report(Json& row, const std::string& report) {
   row["mean_distance"] = q.at("mean_distance");
 }
 
-// The child: remeshes one file as `isoquad remesh` would, its progress on stderr (the batch's
-// log for the file), and writes its row.
+// The child: remeshes one file as `isoquad remesh` would, the lines it says on stderr (the
+// batch's log for the file; no stage bar or stage lines: the batch shows its own bar over the
+// files), and writes its row.
 int run_one(BatchArgs a) {
   const auto t0 = Clock::now();
   const fs::path file = a.one;
@@ -234,12 +236,6 @@ std::map<std::string, Json> earlier_rows(const fs::path& stem) {
   return rows;
 }
 
-std::string clock_time(double seconds) {
-  const auto s = static_cast<long>(seconds + 0.5);
-  return s >= 3600 ? fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
-                   : fmt::format("{}:{:02}", s / 60, s % 60);
-}
-
 // Runs `argv` with stdout to /dev/null and stderr to `log`; returns its process id.
 pid_t spawn(const std::vector<std::string>& argv, const fs::path& log) {
   posix_spawn_file_actions_t actions;
@@ -293,7 +289,7 @@ class ProgressLine {
         files_(files),
         to_run_(to_run),
         quiet_(quiet),
-        tty_(::isatty(STDERR_FILENO) == 1) {}
+        tty_(stderr_is_terminal()) {}
 
   double seconds() const { return std::chrono::duration<double>(Clock::now() - t0_).count(); }
 
@@ -315,11 +311,8 @@ class ProgressLine {
     const std::string counts = fmt::format("{}/{} done, {} failed, {} elapsed{}", finished, files_,
                                            failed_, clock_time(elapsed), eta);
     if (tty_) {
-      constexpr int kWidth = 24;
-      const auto filled = int(kWidth * double(finished) / double(std::max<std::size_t>(files_, 1)));
-      fmt::print(stderr, "\r\033[K{}{}[{}{}] {}", line, line.empty() ? "" : "\n",
-                 std::string(std::size_t(filled), '#'),
-                 std::string(std::size_t(kWidth - filled), '.'), counts);
+      fmt::print(stderr, "\r\033[K{}{}{} {}", line, line.empty() ? "" : "\n",
+                 bar_cells(double(finished) / double(std::max<std::size_t>(files_, 1))), counts);
     } else if (!line.empty()) {
       fmt::print(stderr, "batch: {} ({})\n", line, counts);
     }

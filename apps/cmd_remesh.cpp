@@ -4,11 +4,13 @@
 
 #include <chrono>
 #include <iostream>
+#include <optional>
 
 #include "commands.hpp"
 #include "io/read_mesh.hpp"
 #include "io/write_mesh.hpp"
 #include "pipeline/remesh.hpp"
+#include "progress_bar.hpp"
 #include "remesh_args.hpp"
 #include "report/report.hpp"
 
@@ -101,6 +103,10 @@ void add_remesh_options(CLI::App& app, RemeshArgs& args) {
                   "How often at most --tolerance asks for more quads")
       ->check(CLI::Range(1u, 8u))
       ->capture_default_str();
+  sub->add_flag("--allow-topology-change", a->allow_topology_change,
+                "Keep quads whose topology (genus, boundary loops, connected pieces) differs "
+                "from their input component's, with a warning (W113; by default that is an "
+                "error, E603)");
   sub->add_option("--threads", a->threads,
                   "Worker threads at most (0: one per core); the output is the same for any count")
       ->check(number_in(0, 1e6, "a thread count (0: one per core)"))
@@ -138,11 +144,13 @@ RemeshOptions remesh_options(const RemeshArgs& a) {
   o.tolerance_rounds = a.tolerance_rounds;
   o.improve_corners = a.improve_corners;
   o.threads = a.threads;
+  o.allow_topology_change = a.allow_topology_change;
   return o;
 }
 
 std::string remesh_file(const RemeshArgs& a, const std::string& input, const std::string& output,
-                        const std::string& report_dir, bool quality, const Say& say) {
+                        const std::string& report_dir, bool quality, const Say& say,
+                        const ProgressCallback& advance) {
   const auto t0 = std::chrono::steady_clock::now();
   check_mesh_output(output);
   if (!report_dir.empty()) check_output_folder(report_dir);
@@ -151,7 +159,7 @@ std::string remesh_file(const RemeshArgs& a, const std::string& input, const std
                   read.mesh.num_faces()));
   RemeshOptions o = remesh_options(a);
   o.quality = quality || !report_dir.empty();
-  const RemeshRun run = remesh_run(read.mesh, o, read.unshared_vertices, say);
+  const RemeshRun run = remesh_run(read.mesh, o, read.unshared_vertices, say, advance);
   const PolyRemesh& r = run.result;
   write_mesh(output, r.quads);
   if (!report_dir.empty()) {
@@ -179,12 +187,21 @@ Runner add_remesh(CLI::App& app) {
                   "Write pictures (Figures 1 and 3 of the paper), layout.svg, report.json and "
                   "index.html into this folder");
   sub->add_flag("--json", a->json, "Print the run and quality report as JSON");
-  sub->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
+  sub->add_flag("-q,--quiet", a->quiet,
+                "No progress on stderr (by default a bar per stage on a terminal, else a line "
+                "per stage and one every 10 s in a long stage)");
   return [a] {
-    const std::string report =
-        remesh_file(*a, a->input, a->output, a->report_dir, a->json, [&](const std::string& s) {
-          if (!a->quiet) fmt::print(stderr, "{}\n", s);
+    std::optional<RemeshProgress> shown;
+    if (!a->quiet) shown.emplace(stderr_is_terminal());
+    const std::string report = remesh_file(
+        *a, a->input, a->output, a->report_dir, a->json,
+        [&](const std::string& s) {
+          if (shown) shown->say(s);
+        },
+        [&](const Progress& p) {
+          if (shown) shown->advance(p);
         });
+    if (shown) shown->finish();
     if (a->json) std::cout << report << '\n';
     return 0;
   };

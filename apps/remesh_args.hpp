@@ -18,7 +18,7 @@ struct RemeshArgs {
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
        split_patches = false, no_tip_split = false, no_refine = false, no_patch_rounds = false,
-       no_misfit_split = false;
+       no_misfit_split = false, allow_topology_change = false;
   uint32_t smooth = 0, fold_rounds = 2, threads = 0;
   double tolerance = RemeshOptions{}.tolerance;
   uint32_t tolerance_rounds = RemeshOptions{}.tolerance_rounds;
@@ -34,10 +34,12 @@ void add_remesh_options(CLI::App& sub, RemeshArgs& args);
 RemeshOptions remesh_options(const RemeshArgs& args);
 
 // Remeshes `input` into `output` (and writes the report folder, when not empty) as
-// `isoquad remesh` does, saying its progress; returns the run's JSON report, with the quality
-// measurements when `quality` (or a report folder) is asked for.
+// `isoquad remesh` does, saying its progress (and with `advance`, how far it is); returns the
+// run's JSON report, with the quality measurements when `quality` (or a report folder) is asked
+// for.
 // \throw Error as remesh and the readers and writers do.
 std::string remesh_file(const RemeshArgs& args, const std::string& input, const std::string& output,
-                        const std::string& report_dir, bool quality, const Say& say);
+                        const std::string& report_dir, bool quality, const Say& say,
+                        const ProgressCallback& advance = {});
 
 }  // namespace isoquad::cli

@@ -58,21 +58,36 @@ struct RemeshOptions {
   // Hausdorff), at most tolerance_rounds times and to 4 times the first count (0: off).
   double tolerance = 0;
   uint32_t tolerance_rounds = 2;
+  // Quads whose topology (genus, boundary loops, connected pieces) differs from their input
+  // component's are an error (E603) unless this is set: then a warning (W113) in the report.
+  bool allow_topology_change = false;
   bool quality = true;   // measure the output against the input (in `report`)
   uint32_t threads = 0;  // worker threads at most (0: all cores); same output for any
 };
 
-// How far a run is, for a progress bar. `fraction` in [0, 1] never goes down within a run and
-// ends at 1. `stage`: "prepare" (validation and repairs), "component" (the stages of one
-// connected component: segmentation, layout, map, quads and their repairs, reported when the
-// component begins and ends, sized by its share of the faces), "quality" (the measurements of
-// the report) and "done". `message` is the line `isoquad remesh` prints, or empty.
+// How far a run is, for a progress bar: called as each stage begins, and with each line said.
+// `fraction` in [0, 1] never goes down within a run and ends at 1 (each connected component has
+// a span by its share of the faces, cut by rough stage weights; the repairs' rounds move within
+// what is left of it). `stage`, one of these stable names:
+//   "prepare"  validation, repairs, orientation, components
+//   "segment"  a component's patches: VSA, or the cross field and its traced separatrices
+//   "layout"   the meta-mesh's corners (ILP) and integer side lengths
+//   "map"      the seamless parametrization and its certificate
+//   "extract"  the quads read off the map, and untangled
+//   "repair"   the repairs of the quads (fold rounds, tips, refinement, more patches): they
+//              run the stages above again, which are then reported again
+//   "quality"  the measurements of the report
+//   "done"     the end (fraction 1)
+// For each component the first four come in that order, and "repair" after them when the quads
+// are untangled (the default); a component under 12 faces runs none of them. `message` is the
+// line `isoquad remesh` prints, or empty where only the stage begins.
 struct Progress {
   double fraction = 0;
   std::string stage;
   std::string message;
 };
-// Called on the caller's thread. An exception thrown from it ends the run and propagates.
+// Called on the caller's thread, never from the library's worker threads. An exception thrown
+// from it ends the run and propagates.
 using ProgressCallback = std::function<void(const Progress&)>;
 
 struct RemeshResult {
@@ -87,7 +102,8 @@ struct RemeshResult {
 // \throw Error(invalid_input) E003 an option out of its range (quads neither 0 nor at least 1,
 //        a negative or non-finite edge length, both of them, a feature angle outside [0, 180],
 //        ...), E020 wrong shapes or an index out of range, E013 a NaN or infinite coordinate;
-//        and the errors of the stages (README).
+//        Error(extraction) E603 a component's quads of another topology than the component
+//        (unless options.allow_topology_change); and the errors of the stages (README).
 RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                     const RemeshOptions& options = {}, const ProgressCallback& progress = {});
 

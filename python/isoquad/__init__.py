@@ -148,7 +148,7 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
            feature_angle=60.0, repair=False, weld_eps=0.0, weld_all=False, smooth=0,
            untangle=True, snap=True, fold_rounds=2, split_patches=False, tip_split=True,
            refine=True, patch_rounds=True, misfit_split=True, tolerance=0.0, tolerance_rounds=2,
-           threads=0, quality=True, progress=None):
+           allow_topology_change=False, threads=0, quality=True, progress=None):
     """Remesh a triangle mesh into a pure quad mesh: returns (V, Q, report).
 
     V: float64 (n, 3) positions; F: integer (m, 3) triangles (or (m, k) polygons padded with
@@ -191,12 +191,19 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
                        (0 to 0.1, default 0)
       weld_all         weld every coincident vertex first (STL soups; see read)
     Run:
+      allow_topology_change  keep quads whose topology (genus, boundary loops, connected
+                       pieces) differs from their component's, with warning W113 in
+                       report["warnings"] (by default an ExtractionError, E603)
       threads          worker threads at most (0: all cores); the output is the same for any
       quality          measure the quads against the input into report["quality"]
-      progress         called as progress(fraction, stage, message): fraction in [0, 1] never
-                       going down, stage "prepare", "component", "quality" or "done", message
-                       the line the command line prints (or ""). An exception it raises (and
-                       Ctrl-C) ends the run and is raised from remesh.
+      progress         called as progress(fraction, stage, message) as each stage begins and
+                       with each line said: fraction in [0, 1] never going down, stage
+                       "prepare", then per component "segment", "layout", "map", "extract",
+                       "repair" (repairs run the stages again: reported again), then
+                       "quality" and "done"; message the line the command line prints (or
+                       "" where a stage begins). Called on the thread that called remesh, with
+                       the GIL. An exception it raises (and Ctrl-C) ends the run and is raised
+                       from remesh.
 
     Raises ValueError for a bad array shape or dtype, and isoquad.Error subclasses for what the
     command line refuses: InputError (E003 an option out of its range, E020 an index out of
@@ -231,6 +238,7 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
     o.misfit_split = bool(misfit_split)
     o.tolerance = float(tolerance)
     o.tolerance_rounds = _count("tolerance_rounds", tolerance_rounds)
+    o.allow_topology_change = bool(allow_topology_change)
     o.threads = _count("threads", threads)
     o.quality = bool(quality)
     Vq, Q, patch, report = _core.remesh(V, F, o, progress)

@@ -82,6 +82,7 @@ def remesh(
     misfit_split: bool = ...,
     tolerance: float = ...,
     tolerance_rounds: int = ...,
+    allow_topology_change: bool = ...,
     threads: int = ...,
     quality: bool = ...,
     progress: Optional[Progress] = ...,

@@ -492,4 +492,11 @@ QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
                      report);
 }
 
+PolyMesh as_poly(const QuadMesh& qm) {
+  PolyMesh p;
+  p.positions = qm.positions;
+  for (const auto& q : qm.quads) p.add_face({q[0], q[1], q[2], q[3]});
+  return p;
+}
+
 }  // namespace isoquad

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/poly_mesh.hpp"
 #include "core/refined_mesh.hpp"
 #include "layout/layout.hpp"
 #include "param/param.hpp"
@@ -134,5 +135,8 @@ QuadMesh place_quads(const RefinedMesh& refined, const TriMesh& base,
 QuadMesh extract_quads(const RefinedMesh& refined, const TriMesh& base,
                        const FaceData<uint32_t>& labels, const MetaMesh& meta, const Layout& layout,
                        const Param& param, ExtractReport& report);
+
+// The quads as a polygon mesh (for topology_of, metrics/quality.hpp); nothing else is kept.
+PolyMesh as_poly(const QuadMesh& quads);
 
 }  // namespace isoquad

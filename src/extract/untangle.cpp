@@ -365,13 +365,6 @@ void untangle_sweeps(QuadMesh& qm, const TriMesh& base, const AabbTree& tree, co
     }
 }
 
-PolyMesh as_poly(const QuadMesh& qm) {
-  PolyMesh p;
-  p.positions = qm.positions;
-  for (const auto& q : qm.quads) p.add_face({q[0], q[1], q[2], q[3]});
-  return p;
-}
-
 // Replaces quad f by five: a quad inside it and four between the two. Corner k, whose vertex
 // is pinned to a crease or the boundary with an angle near 180 degrees, then has two quads on
 // that side; its inner corner starts nearer to it than the others so that the inner quad does

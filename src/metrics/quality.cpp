@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include "core/element_data.hpp"
@@ -19,6 +20,19 @@ namespace isoquad {
 
 int64_t Topology::genus() const {
   return (2 * int64_t(components) - euler - int64_t(boundary_loops)) / 2;
+}
+
+std::string topology_change(const Topology& input, const Topology& output) {
+  std::string out;
+  const auto differs = [&](const char* what, int64_t before, int64_t after) {
+    if (before != after)
+      out += fmt::format("{}{} {} -> {}", out.empty() ? "" : ", ", what, before, after);
+  };
+  differs("genus", input.genus(), output.genus());
+  differs("boundary loops", input.boundary_loops, output.boundary_loops);
+  differs("connected pieces", input.components, output.components);
+  if (out.empty()) differs("Euler characteristic", input.euler, output.euler);
+  return out;
 }
 
 namespace {

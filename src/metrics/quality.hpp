@@ -75,6 +75,11 @@ Topology topology_of(const PolyMesh& m, bool* edge_manifold, bool* vertex_manifo
                      std::vector<uint32_t>* boundary_vertex_flag,
                      std::vector<uint32_t>* corner_count);
 
+// What differs from `input`'s topology in `output`'s, in words, each as "before -> after":
+// "genus 2 -> 1, boundary loops 0 -> 1, connected pieces 1 -> 2" (the Euler characteristic where
+// none of those differs but it does); empty when the two are the same.
+std::string topology_change(const Topology& input, const Topology& output);
+
 // \pre quads has at least one face. `reference` (triangles or polygons) enables topology
 // comparison, surface-normal Jacobians and distances.
 QualityReport measure_quality(const PolyMesh& quads, const PolyMesh* reference,

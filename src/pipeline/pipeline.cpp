@@ -26,6 +26,11 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// A stage begins (PipelineOptions::stage_begins): for the progress only.
+void begin_stage(const PipelineOptions& o, const char* stage) {
+  if (o.stage_begins) o.stage_begins(stage);
+}
+
 // A point on the subdivided surface, expressed in the component it was subdivided from.
 SurfacePoint to_component(const RefinedMesh& surface, const SurfacePoint& s) {
   SurfacePoint out;
@@ -188,6 +193,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   std::vector<uint32_t> ranks;
   const bool dissect = o.last != Stage::segment && o.last != Stage::layout &&
                        surface.num_vertices() >= kNestedDissectionVertices;
+  begin_stage(o, "segment");
   tbb::parallel_invoke(
       [&] {
         run.field_used = false;
@@ -222,6 +228,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   sized_layout.quads = o.edge_length > 0 ? 0 : (o.quads > 0 ? o.quads * run.area_share : 0);
   sized_layout.default_share = run.area_share;
   LayoutOptions lo = sized_layout;
+  begin_stage(o, "layout");
   t0 = Clock::now();
   auto split = [&] {
     run.quad_split.emplace();
@@ -275,6 +282,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   if (o.last == Stage::layout) return;
 
   auto param_and_extract = [&] {
+    begin_stage(o, "map");
     auto t = Clock::now();
     run.param_report = {};
     const TriMesh& mesh = run.seg.refined.mesh;
@@ -285,6 +293,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     run.param_seconds += seconds_since(t);
     if (o.last == Stage::param) return;
 
+    begin_stage(o, "extract");
     t = Clock::now();
     run.extract_report = {};
     run.untangle_report = {};
@@ -342,6 +351,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   };
   // Folds left after untangling: thicker patches, then diagonal collapses.
   auto repair_folds = [&] {
+    begin_stage(o, "repair");
     // Where diagonal collapses alone remove every fold and leave the quads within the distance
     // target, that is the repair: the rounds below cost a map each and, on fandisk at 1,500
     // quads, one round (not kept) was a third of the whole run. Where the quads are farther,
@@ -380,6 +390,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       auto undo = [&] { undo_try(before); };
       ++run.fold_rounds;
       try {
+        begin_stage(o, "layout");
         t0 = Clock::now();
         std::optional<Layout> thicker =
             relayout_lengths(run.seg.refined.mesh, run.seg.labels, run.seg.meta, run.layout,
@@ -433,6 +444,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   // The layout, map, quads and fold repairs again (after new corners or patches): whether fewer
   // quads fold than in `before`.
   auto solve_again = [&](const UntangleReport& before) {
+    begin_stage(o, "layout");
     t0 = Clock::now();
     layout();
     run.layout_seconds += seconds_since(t0);
@@ -502,6 +514,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       run.misfit_split.folded_before = run.misfit_split.folded_after =
           run.untangle_report.nonpositive;
       try {
+        begin_stage(o, "segment");
         t0 = Clock::now();
         SegmentOptions so = SegmentOptions::sized(h, o.patches, o.seed);
         const FaceData<uint32_t> split =
@@ -697,6 +710,7 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
   };
   std::optional<Kept> best;  // the round to keep
   for (uint32_t round = 0; round < kRefineRounds && (d.max > target || !folds.empty()); ++round) {
+    begin_stage(o, "repair");
     const AabbTree placed_tree(fan_triangles(placed));
     // Marks the lattice point nearest to x: the four quads around it are cut by the one-corner
     // template, eight quads more. Marking all four corners of the quad there instead cuts about

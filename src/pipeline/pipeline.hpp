@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -91,6 +92,10 @@ struct PipelineOptions {
   // fewer quads fold.
   bool misfit_split = true;
   Stage last = Stage::extract;
+  // Called as each stage begins, with its name in pipeline/progress.hpp kComponentStages, on the
+  // thread that called run_component (never inside a parallel region), for a progress bar: the
+  // stages compute nothing from it.
+  std::function<void(const char* stage)> stage_begins;
 };
 
 constexpr double kToleranceMaxGrowth = 4;

@@ -12,6 +12,7 @@
 #include "isoquad/error.hpp"
 #include "metrics/quality.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/progress.hpp"
 #include "prep/prepare.hpp"
 
 namespace isoquad {
@@ -45,7 +46,8 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"tip_split", o.tip_split},
           {"refine", o.refine},
           {"patch_rounds", o.patch_rounds},
-          {"misfit_split", o.misfit_split}};
+          {"misfit_split", o.misfit_split},
+          {"allow_topology_change", o.allow_topology_change}};
 }
 
 // Every option out of its range is refused (E003) before any work, rather than read as the
@@ -88,6 +90,18 @@ void warn(RemeshRun& run, InputIssue issue, const Say& say) {
 
 }  // namespace
 
+std::optional<InputIssue> check_component_topology(uint32_t component, const Topology& input,
+                                                   const Topology& quads, bool allow) {
+  const std::string change = topology_change(input, quads);
+  if (change.empty()) return std::nullopt;
+  const std::string what =
+      fmt::format("component {}: the quads' topology is not the input's ({})", component, change);
+  if (!allow)
+    throw Error(ErrorKind::extraction, "E603",
+                what + "; --allow-topology-change (allow_topology_change) keeps them");
+  return InputIssue{InputIssue::Severity::warning, "W113", what + ", kept as allowed", 1};
+}
+
 PrepOptions prep_options(const RemeshOptions& o, bool unshared_vertices) {
   PrepOptions po;
   po.repair = o.repair;
@@ -115,18 +129,13 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                      const std::function<void(const std::string&)>& progress,
                      const ProgressCallback& advance) {
   // How far the run is: preparation and the quality measurements a small share each, the
-  // components the rest, by their faces (the stages inside a component are not reported).
-  Progress at{0, "prepare", ""};
+  // components the rest, by their faces, each by its stages (pipeline/progress.hpp).
+  ProgressMeter meter(advance);
   auto say = [&](const std::string& s) {
     if (progress) progress(s);
-    if (advance) advance({at.fraction, at.stage, s});
+    meter.say(s);
   };
-  const auto reach = [&](double fraction, const char* stage) {
-    at.fraction = std::max(at.fraction, fraction);
-    at.stage = stage;
-    if (advance) advance(at);
-  };
-  reach(0, "prepare");
+  meter.reach(0, "prepare");
   // Parallel stages are deterministic: the thread count changes the time, not the output.
   std::optional<tbb::global_control> limit;
   if (opt.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, opt.threads);
@@ -139,7 +148,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   const double component_share = opt.quality ? 0.9 : 1 - kPrepareShare;
   uint64_t faces = 0, faces_done = 0;
   for (const PreparedComponent& c : prep.components) faces += c.mesh.num_faces();
-  at.fraction = kPrepareShare;
+  meter.set_fraction(kPrepareShare);
   say(fmt::format("prepared {} component{} ({:.0f} ms)", prep.components.size(),
                   prep.components.size() == 1 ? "" : "s", 1e3 * prep_s));
   for (const InputIssue& issue : prep.report.issues) warn(run, issue, say);
@@ -171,16 +180,26 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                                            : RelaxMode::adaptive;
   std::vector<ComponentRun>& runs = run.runs;
   nlohmann::json comps = nlohmann::json::array();
+  o.stage_begins = [&](const char* stage) { meter.stage(stage); };
   for (uint32_t c = 0; c < prep.components.size(); ++c) {
     const auto component_done = [&] {
       return kPrepareShare +
              component_share * double(faces_done) / double(std::max<uint64_t>(faces, 1));
     };
-    reach(component_done(), "component");
+    const double begin = component_done();
+    faces_done += prep.components[c].mesh.num_faces();
+    meter.enter_span(begin, component_done());
     runs.push_back(run_component(prep, c, o));
     const ComponentRun& r = runs.back();
-    faces_done += prep.components[c].mesh.num_faces();
-    at.fraction = component_done();
+    meter.set_fraction(component_done());
+    const TriMesh& mesh = prep.components[c].mesh;
+    const Topology input_topology{mesh.euler_characteristic(), mesh.num_components(),
+                                  uint32_t(mesh.boundary_loops().size())};
+    if (const auto changed = check_component_topology(
+            prep.components[c].report_index, input_topology,
+            topology_of(as_poly(r.quads), nullptr, nullptr, nullptr, nullptr, nullptr),
+            opt.allow_topology_change))
+      warn(run, *changed, say);
     if (r.triangle_split)
       warn(run,
            {InputIssue::Severity::warning, "W109",
@@ -402,13 +421,13 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                       {"warnings", run.warnings},
                       {"seconds", {{"prepare", prep_s}}}};
   if (opt.quality) {
-    reach(kPrepareShare + component_share, "quality");
+    meter.reach(kPrepareShare + component_share, "quality");
     t0 = std::chrono::steady_clock::now();
     j["quality"] = measure_quality(out.quads, &input);
     j["seconds"]["quality"] = seconds_since(t0);
   }
   out.report = j.dump(2);
-  reach(1, "done");
+  meter.reach(1, "done");
   return run;
 }
 

@@ -3,12 +3,13 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
-
 #include <vector>
 
 #include "core/poly_mesh.hpp"
 #include "isoquad/remesh.hpp"
+#include "metrics/quality.hpp"
 #include "pipeline/pipeline.hpp"
 #include "prep/prepare.hpp"
 
@@ -39,6 +40,14 @@ PrepOptions prep_options(const RemeshOptions& options, bool unshared_vertices);
 // reject the input.
 PreparedMesh check_input(const PolyMesh& input, const RemeshOptions& options,
                          bool unshared_vertices = false, bool diagnose = false);
+
+// The check remesh makes on each component's quads: their topology (topology_of) against the
+// prepared component's. Nothing if they are the same; if not, with `allow`
+// (RemeshOptions::allow_topology_change) the warning W113 that says what changed, for the run's
+// warnings. `component`: the input's component index, for the message.
+// \throw Error(extraction, E603) naming the component and what changed, without `allow`.
+std::optional<InputIssue> check_component_topology(uint32_t component, const Topology& input,
+                                                   const Topology& quads, bool allow);
 
 // `progress` gets every line as it is said; `advance` the same lines with how far the run is,
 // and the stage boundaries (isoquad::Progress).

@@ -72,22 +72,38 @@ class Remesh(unittest.TestCase):
 
     def test_progress_covers_every_stage_and_never_goes_down(self):
         V, F = isoquad.read(DATA / "sphere.off")
-        calls = []
-        isoquad.remesh(V, F, quads=300, progress=lambda f, s, m: calls.append((f, s, m)))
-        fractions = [f for f, _, _ in calls]
-        self.assertEqual(fractions, sorted(fractions))
-        self.assertEqual(fractions[0], 0)
-        self.assertEqual(fractions[-1], 1)
-        self.assertEqual(calls[-1][1], "done")
-        stages = list(dict.fromkeys(s for _, s, _ in calls))
-        self.assertEqual(stages, ["prepare", "component", "quality", "done"])
-        self.assertTrue(any(m.startswith("component 0: segment") for _, _, m in calls))
+        for segmentation in ("vsa", "field"):
+            with self.subTest(segmentation=segmentation):
+                calls = []
+                caller = threading.get_ident()
+                isoquad.remesh(V, F, quads=300, segmentation=segmentation,
+                               progress=lambda f, s, m: calls.append((f, s, m,
+                                                                      threading.get_ident())))
+                fractions = [f for f, _, _, _ in calls]
+                self.assertEqual(fractions, sorted(fractions))
+                self.assertEqual(fractions[0], 0)
+                self.assertEqual(fractions[-1], 1)
+                self.assertEqual(calls[-1][1], "done")
+                self.assertEqual({t for _, _, _, t in calls}, {caller})
+                # The stages inside a component, each as it begins (repairs run some again).
+                stages = list(dict.fromkeys(s for _, s, _, _ in calls))
+                self.assertEqual(stages, ["prepare", "segment", "layout", "map", "extract",
+                                          "repair", "quality", "done"])
+                self.assertTrue(any(m.startswith("component 0: segment") for _, _, m, _ in calls))
+
+    def test_allow_topology_change_is_passed_and_echoed(self):
+        V, F = isoquad.read(DATA / "sphere.off")
+        for allow in (False, True):
+            _, _, report = isoquad.remesh(V, F, quads=300, quality=False,
+                                          allow_topology_change=allow)
+            self.assertIs(report["options"]["allow_topology_change"], allow)
+            self.assertFalse(any(w["code"] == "W113" for w in report["warnings"]))
 
     def test_an_exception_in_the_progress_callback_ends_the_run(self):
         V, F = isoquad.read(DATA / "sphere.off")
 
         def stop(fraction, stage, message):
-            if stage == "component":
+            if stage == "map":
                 raise KeyboardInterrupt("stopped")
 
         with self.assertRaises(KeyboardInterrupt):

@@ -420,6 +420,73 @@ TEST(Cli, LayoutReportsChartsAndLengths) {
       2);
 }
 
+TEST(Cli, RemeshProgressBarOnATerminalAndLinesOtherwise) {
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_progress.obj";
+  // On a pseudo-terminal: one line redrawn in place, "\r\033[K[###...] 42% map, 0:01 elapsed,
+  // about 0:02 left", the stage names as they begin, ending at 100% done and a newline.
+  const CliRun tty = isoquad::test::on_terminal(
+      {ISOQUAD_CLI_PATH, "remesh", sphere, "-o", out.string(), "--quads", "300", "--json"});
+  ASSERT_EQ(tty.status, 0) << tty.err;
+  const std::string redraw = "\r\033[K[";
+  std::vector<std::string> bars;
+  for (std::size_t at = tty.err.find(redraw); at != std::string::npos;) {
+    const std::size_t next = tty.err.find('\r', at + 1);
+    bars.push_back(tty.err.substr(at + redraw.size(),
+                                  next == std::string::npos ? next : next - at - redraw.size()));
+    at = next == std::string::npos ? next : tty.err.find(redraw, next);
+  }
+  ASSERT_GE(bars.size(), 8u) << tty.err;
+  for (const char* stage : {"% prepare", "% segment", "% layout", "% map", "% extract", "% repair",
+                            "% quality", "100% done"})
+    EXPECT_TRUE(
+        std::any_of(bars.begin(), bars.end(),
+                    [&](const std::string& b) { return b.find(stage) != std::string::npos; }))
+        << stage << " in " << tty.err;
+  for (const std::string& b : bars) EXPECT_NE(b.find(" elapsed"), std::string::npos) << b;
+  EXPECT_TRUE(std::any_of(bars.begin(), bars.end(), [](const std::string& b) {
+    return b.find(" left") != std::string::npos;
+  })) << tty.err;
+  EXPECT_NE(bars.back().find("] 100% done, "), std::string::npos) << bars.back();
+  EXPECT_EQ(tty.err.back(), '\n');  // the bar's line ended, and nothing after it
+  EXPECT_NE(tty.err.find("\r\033[Kcomponent 0: segment"), std::string::npos) << tty.err;
+
+  // Not a terminal: no redraws, a plain line per stage begun among the lines said.
+  const CliRun plain = run("remesh " + sphere + " -o " + out.string() + " --quads 300 --json");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_EQ(plain.err.find('\r'), std::string::npos) << plain.err;
+  EXPECT_EQ(plain.err.find('\033'), std::string::npos) << plain.err;
+  for (const char* line : {"remesh:   0% prepare, 0:0", "% segment, ", "% layout, ", "% map, ",
+                           "% extract, ", "% repair, ", "% quality, ", "remesh: 100% done, "})
+    EXPECT_NE(plain.err.find(line), std::string::npos) << line << " in " << plain.err;
+  EXPECT_NE(plain.err.find("component 0: segment"), std::string::npos) << plain.err;
+
+  // -q: neither.
+  const CliRun quiet = run("remesh " + sphere + " -o " + out.string() + " --quads 300 -q");
+  ASSERT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_EQ(quiet.err, "");
+  const CliRun quiet_tty = isoquad::test::on_terminal(
+      {ISOQUAD_CLI_PATH, "remesh", sphere, "-o", out.string(), "--quads", "300", "-q"});
+  ASSERT_EQ(quiet_tty.status, 0) << quiet_tty.err;
+  EXPECT_EQ(quiet_tty.err, "");
+  std::filesystem::remove(out);
+}
+
+TEST(Cli, AllowTopologyChangeIsAnOptionEchoedInTheJson) {
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_topology.obj";
+  EXPECT_NE(run("remesh --help").out.find("--allow-topology-change"), std::string::npos);
+  for (const bool allow : {false, true}) {
+    const CliRun r = run("remesh " + sphere + " -o " + out.string() + " --quads 300 -q --json" +
+                         (allow ? " --allow-topology-change" : ""));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["options"]["allow_topology_change"], allow);
+    EXPECT_EQ(r.out.find("W113"), std::string::npos);
+  }
+  std::filesystem::remove(out);
+}
+
 TEST(Cli, RemeshQualityAndParamOnSampleMeshes) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto out = dir / ("isoquad_cli_quads_" + std::to_string(::getpid()) + ".ply");

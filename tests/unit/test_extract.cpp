@@ -175,13 +175,6 @@ CubeRefined refine_cube(const std::vector<uint32_t>& marked, uint32_t rounds = 1
   return c;
 }
 
-PolyMesh as_poly(const QuadMesh& q) {
-  PolyMesh p;
-  p.positions = q.positions;
-  for (const auto& f : q.quads) p.add_face({f[0], f[1], f[2], f[3]});
-  return p;
-}
-
 // Valid, of the cube's topology, on the cube, its quads convex (scaled Jacobian above `sj`).
 void expect_valid_on_cube(const CubeRefined& c, double sj) {
   const PolyMesh input = component_as_poly(c.r.prep.components[0].mesh);
@@ -856,12 +849,6 @@ TEST(Snap, MovesCornersOntoTipsTheQuadsCutOff) {
   EXPECT_LT(report.farthest_after, report.farthest_before);
 
   const PolyMesh reference = component_as_poly(base);
-  auto as_poly = [](const QuadMesh& m) {
-    PolyMesh p;
-    p.positions = m.positions;
-    for (const auto& f : m.quads) p.add_face({f[0], f[1], f[2], f[3]});
-    return p;
-  };
   const QualityReport before = measure_quality(as_poly(r.run.quads), &reference);
   const QualityReport after = measure_quality(as_poly(q), &reference);
   EXPECT_LT(after.hausdorff, before.hausdorff);
