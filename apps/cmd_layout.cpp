@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "field/field_segment.hpp"
 #include "io/read_mesh.hpp"
 #include "layout/layout.hpp"
 #include "pipeline/pipeline.hpp"
@@ -17,7 +18,7 @@ namespace isoquad::cli {
 
 namespace {
 struct LayoutArgs {
-  std::string mesh, corners = "global", ilp = "cbc";
+  std::string mesh, corners = "global", ilp = "cbc", segmentation = "vsa";
   PatchArgs patch;
   bool json = false, improve_corners = true;
   PrepArgs prep;
@@ -30,6 +31,11 @@ Runner add_layout(CLI::App& app) {
       "layout", "Lay every patch out as an integer rectangle and print the layout");
   sub->add_option("mesh", a->mesh, "Input mesh")->required();
   add_patch_options(*sub, a->patch);
+  sub->add_option("--segmentation", a->segmentation,
+                  "vsa (the paper's planar regions) or field (along a cross field's streamlines, "
+                  "corners included; VSA where it fails)")
+      ->check(CLI::IsMember({"vsa", "field"}))
+      ->capture_default_str();
   sub->add_option("--corners", a->corners,
                   "global: one ILP over all patches; local: the paper's per-patch choice")
       ->check(CLI::IsMember({"global", "local"}))
@@ -44,6 +50,7 @@ Runner add_layout(CLI::App& app) {
                 "--no-improve-corners keeps the corner ILP's choice)");
   sub->add_flag("--json", a->json, "Print the full layout as JSON");
   add_prep_options(*sub, a->prep);
+  refuse_vsa_only_with_field(*sub, a->segmentation, {"--patches", "--corners"});
   return [a] {
     const ReadResult read = read_mesh(a->mesh, a->prep.read_options());
     const PreparedMesh prep = prepare(read.mesh, a->prep.prep_options(read));
@@ -59,8 +66,21 @@ Runner add_layout(CLI::App& app) {
       const RefinedMesh surface =
           subdivide_coarse(c.mesh, c.feature, so.vsa.target_edge_length,
                            PipelineOptions{}.triangles_per_quad, feature, subdivisions);
-      SegmentResult seg = segment(surface.mesh, feature, so);
+      FieldLayoutLog field_log;
+      FieldSegmentation fs;
+      if (a->segmentation == "field") {
+        fs = field_segment(surface.mesh, feature, h, field_log);
+        if (!field_log.failure.empty())
+          fmt::print(stderr, "isoquad: component {}: the field layout failed, VSA instead: {}\n",
+                     c.report_index, field_log.failure);
+      }
+      const bool field = a->segmentation == "field" && field_log.failure.empty();
+      SegmentResult seg = field ? std::move(fs.seg) : segment(surface.mesh, feature, so);
       LayoutOptions lo;
+      if (field) {
+        lo.given_corners = &fs.corners;
+        lo.preferred_corners = &fs.preferred;
+      }
       lo.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;
       lo.length_solver = a->ilp == "flow" ? LengthSolver::flow : LengthSolver::cbc;
       lo.improve_corners = a->improve_corners;
@@ -76,6 +96,7 @@ Runner add_layout(CLI::App& app) {
         if (!mm.vertices[v].on_boundary) ++valence[layout.quarter_turns[v]];
       nlohmann::json j = {{"component", c.report_index},
                           {"subdivisions", subdivisions},
+                          {"layout_source", field ? "field" : "vsa"},
                           {"patches", mm.faces.size()},
                           {"meta_vertices", mm.vertices.size()},
                           {"meta_edges", mm.edges.size()},

@@ -18,7 +18,8 @@ namespace isoquad::cli {
 namespace {
 
 struct ParamArgs {
-  std::string mesh, output, svg, weights = "smvc", relax = "adaptive", corners = "global";
+  std::string mesh, output, svg, weights = "smvc", relax = "adaptive", corners = "global",
+                                 segmentation = "vsa";
   PatchArgs patch;
   bool json = false;
   PrepArgs prep;
@@ -70,6 +71,11 @@ Runner add_param(CLI::App& app) {
   sub->add_option("--svg", a->svg,
                   "SVG of every patch's rectangle with its mapped triangles (flips in red)");
   add_patch_options(*sub, a->patch);
+  sub->add_option("--segmentation", a->segmentation,
+                  "vsa (the paper's planar regions) or field (along a cross field's streamlines, "
+                  "corners included; VSA where it fails)")
+      ->check(CLI::IsMember({"vsa", "field"}))
+      ->capture_default_str();
   sub->add_option("--weights", a->weights,
                   "smvc: symmetrized mean value weights (SPD, CHOLMOD); mvc: the paper's mean "
                   "value weights (UMFPACK)")
@@ -85,6 +91,7 @@ Runner add_param(CLI::App& app) {
       ->capture_default_str();
   sub->add_flag("--json", a->json, "Print the report as JSON");
   add_prep_options(*sub, a->prep);
+  refuse_vsa_only_with_field(*sub, a->segmentation, {"--patches", "--corners"});
   return [a] {
     if (!a->output.empty()) check_output_path(a->output);
     if (!a->svg.empty()) check_output_path(a->svg);
@@ -96,6 +103,7 @@ Runner add_param(CLI::App& app) {
     o.edge_length = a->patch.edge_length;
     o.quads = a->patch.quads;
     o.seed = a->patch.seed;
+    o.field_layout = a->segmentation == "field";
     o.layout.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;
     o.param.weights = a->weights == "mvc" ? WeightKind::mvc : WeightKind::smvc;
     o.param.relax = a->relax == "bisection" ? RelaxMode::bisection
@@ -108,6 +116,7 @@ Runner add_param(CLI::App& app) {
       const ParamReport& r = run.param_report;
       const Certificate& cert = run.param.certificate;
       nlohmann::json j = {{"component", prep.components[run.component].report_index},
+                          {"layout_source", run.field_used ? "field" : "vsa"},
                           {"patches", run.seg.num_patches},
                           {"quads", run.layout.quads()},
                           {"weights", r.weights},

@@ -119,6 +119,9 @@ void add_remesh_options(CLI::App& app, RemeshArgs& args) {
       ->check(CLI::Range(200, 4000))
       ->capture_default_str();
   add_prep_options(*sub, a->prep);
+  refuse_vsa_only_with_field(*sub, a->segmentation,
+                             {"--patches", "--corners", "--split-patches", "--no-tip-split",
+                              "--no-patch-rounds", "--no-misfit-split"});
 }
 
 RemeshOptions remesh_options(const RemeshArgs& a) {

@@ -39,6 +39,7 @@ Runner add_segment(CLI::App& app) {
       ->capture_default_str();
   sub->add_flag("--json", a->json, "Print a JSON summary");
   add_prep_options(*sub, a->prep);
+  refuse_vsa_only_with_field(*sub, a->segmentation, {"--patches"});
   return [a] {
     if (!a->output.empty()) check_mesh_output(a->output);
     if (!a->png.empty()) check_output_path(a->png);

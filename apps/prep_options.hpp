@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "io/read_mesh.hpp"
 #include "isoquad/remesh.hpp"
@@ -88,6 +89,23 @@ inline void add_patch_options(CLI::App& sub, PatchArgs& a) {
       ->check(number_in(1, 1e9, "a quad count in [1, 1e9]"))
       ->excludes(el);
   sub.add_option("--seed", a.seed, "Random seed")->capture_default_str();
+}
+
+// Options that only mean something for VSA's patches (their count, the corner choice, their
+// repairs) are refused with --segmentation field, before any file is read: the field layout's
+// patches and corners come from its traces (a component that falls back to VSA takes VSA's
+// defaults).
+inline void refuse_vsa_only_with_field(CLI::App& sub, const std::string& segmentation,
+                                       std::vector<std::string> vsa_only) {
+  sub.parse_complete_callback([&sub, &segmentation, vsa_only = std::move(vsa_only)] {
+    if (segmentation != "field") return;
+    for (const std::string& name : vsa_only)
+      if (sub.count(name) > 0)
+        throw CLI::ValidationError(
+            name,
+            "only means something with --segmentation vsa: the field layout's patches and "
+            "corners come from its traces");
+  });
 }
 
 // Segmentation options for component `c`: its part of the requested size (one budget for the

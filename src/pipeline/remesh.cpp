@@ -71,6 +71,16 @@ void check_options(const RemeshOptions& o) {
     refuse(fmt::format("unknown relaxation '{}' (adaptive, bisection or locked)", o.relax));
   if (o.segmentation != "vsa" && o.segmentation != "field")
     refuse(fmt::format("unknown segmentation '{}' (field or vsa)", o.segmentation));
+  // The field layout's patches and corners come from its traces: VSA's patch count and corner
+  // choice mean nothing there (a component that falls back to VSA takes VSA's defaults).
+  if (o.segmentation == "field" && (o.patches > 0 || o.local_corners || o.split_patches))
+    refuse(
+        fmt::format("{} only for VSA's patches; the field layout's patches and corners come "
+                    "from its traces (segmentation vsa to use {})",
+                    o.patches > 0     ? "a patch count means something"
+                    : o.local_corners ? "local corners mean something"
+                                      : "splitting patches means something",
+                    o.patches > 0 ? "it" : "them"));
   if (!(o.tolerance >= 0 && o.tolerance <= 1))
     refuse(fmt::format("tolerance {} is not a fraction of the diagonal in [0, 1]", o.tolerance));
   if (o.tolerance > 0 && (o.quads > 0 || o.edge_length > 0))

@@ -355,6 +355,35 @@ TEST(Cli, SegmentationModeIsCheckedAndReported) {
   EXPECT_GT(nlohmann::json::parse(seg.out)[0]["patches"].get<int>(), 1);
 }
 
+// Options that only mean something for VSA's patches are refused in field mode, before any
+// work, naming the option; layout and param take --segmentation as remesh and segment do.
+TEST(Cli, VsaOnlyOptionsAreRefusedInFieldMode) {
+  const std::string sphere = (isoquad::test::data_dir() / "sphere.off").string();
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_vsa_only.obj";
+  for (const std::string option : {"--patches 12", "--corners local", "--no-tip-split",
+                                   "--no-patch-rounds", "--no-misfit-split", "--split-patches"}) {
+    const CliRun r =
+        run("remesh " + sphere + " -o " + out.string() + " --segmentation field " + option);
+    EXPECT_EQ(r.status, 2) << option;
+    EXPECT_NE(r.err.find(option.substr(0, option.find(' '))), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("only means something with --segmentation vsa"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+  for (const std::string sub : {"segment", "layout", "param"})
+    EXPECT_EQ(run(sub + " " + sphere + " --segmentation field --patches 12").status, 2) << sub;
+  // The same options are taken in VSA mode.
+  const CliRun vsa = run("remesh " + sphere + " -o " + out.string() +
+                         " --quads 600 --segmentation vsa --patches 12 -q");
+  EXPECT_EQ(vsa.status, 0) << vsa.err;
+  std::filesystem::remove(out);
+  for (const std::string sub : {"layout", "param"}) {
+    const CliRun r = run(sub + " " + sphere + " --quads 600 --segmentation field --json");
+    ASSERT_EQ(r.status, 0) << sub << ": " << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)[0]["layout_source"], "field") << sub;
+  }
+}
+
 TEST(Cli, SegmentWritesPatchesPictureAndSummary) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto ply = dir / "isoquad_cli_patches.ply", png = dir / "isoquad_cli_patches.png";

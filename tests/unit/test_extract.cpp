@@ -515,18 +515,19 @@ TEST(Remesh, OptionsOutOfRangeAreRefused) {
     return "accepted";
   };
   const std::vector<std::function<void(RemeshOptions&)>> bad{
-      [](RemeshOptions& o) { o.quads = -5; },
-      [](RemeshOptions& o) { o.quads = 0.5; },
-      [](RemeshOptions& o) { o.quads = NAN; },
-      [](RemeshOptions& o) { o.quads = INFINITY; },
-      [](RemeshOptions& o) { o.edge_length = -1; },
-      [](RemeshOptions& o) { o.edge_length = NAN; },
+      [](RemeshOptions& o) { o.quads = -5; }, [](RemeshOptions& o) { o.quads = 0.5; },
+      [](RemeshOptions& o) { o.quads = NAN; }, [](RemeshOptions& o) { o.quads = INFINITY; },
+      [](RemeshOptions& o) { o.edge_length = -1; }, [](RemeshOptions& o) { o.edge_length = NAN; },
       [](RemeshOptions& o) { o.edge_length = INFINITY; },
       [](RemeshOptions& o) { o.quads = 100, o.edge_length = 0.1; },
       [](RemeshOptions& o) { o.feature_angle_deg = -1; },
       [](RemeshOptions& o) { o.feature_angle_deg = 181; },
       [](RemeshOptions& o) { o.relax = "none"; },
-      [](RemeshOptions& o) { o.tolerance = 0.01, o.tolerance_rounds = 0; }};
+      [](RemeshOptions& o) { o.tolerance = 0.01, o.tolerance_rounds = 0; },
+      // VSA's patch count and corner choice mean nothing for the field layout.
+      [](RemeshOptions& o) { o.segmentation = "field", o.patches = 12; },
+      [](RemeshOptions& o) { o.segmentation = "field", o.local_corners = true; },
+      [](RemeshOptions& o) { o.segmentation = "field", o.split_patches = true; }};
   for (std::size_t i = 0; i < bad.size(); ++i) {
     RemeshOptions o;
     bad[i](o);
