@@ -56,10 +56,12 @@ std::vector<uint32_t> weld_map(const PolyMesh& soup, bool all, double eps, uint3
       if (P[candidates[i]] == P[candidates[i - 1]]) uf.unite(candidates[i], candidates[i - 1]);
   } else {
     // Spatial hash with cells of size eps; neighbours within eps are in the 27 adjacent cells.
-    auto cell = [&](Vec3 p) {
-      return std::array<int64_t, 3>{int64_t(std::floor(p.x / eps)), int64_t(std::floor(p.y / eps)),
-                                    int64_t(std::floor(p.z / eps))};
+    // A tiny eps (--weld-eps 1e-30) puts cell numbers past int64: they are clamped, which only
+    // shares the outermost cells (the distance test decides), instead of overflowing.
+    auto index = [&](double t) {
+      return int64_t(std::clamp(std::floor(t / eps), -0x1p62, 0x1p62));
     };
+    auto cell = [&](Vec3 p) { return std::array<int64_t, 3>{index(p.x), index(p.y), index(p.z)}; };
     auto key = [](const std::array<int64_t, 3>& c) {
       return uint64_t(c[0]) * 73856093u ^ uint64_t(c[1]) * 19349663u ^ uint64_t(c[2]) * 83492791u;
     };

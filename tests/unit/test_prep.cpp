@@ -324,6 +324,22 @@ TEST(Prepare, HolesTouchingAtCoincidentVerticesKeepTheirCount) {
   EXPECT_EQ(kept.report.issues[0].code, "W112");
 }
 
+// --weld-eps 1e-30 is a valid fraction, but coordinates over such a cell size overflowed int64
+// (undefined behaviour, UBSan reports it): the cells are clamped, and the weld is that of exact
+// duplicates.
+TEST(Prepare, TinyWeldDistanceWeldsOnlyCoincidentVertices) {
+  PolyMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1e-20, 0}};
+  m.add_face({0, 1, 2});
+  m.add_face({3, 5, 4});
+  uint32_t welded = 0;
+  const std::vector<uint32_t> weld = prep::weld_map(m, false, 1e-30, welded);
+  EXPECT_EQ(welded, 2u);
+  EXPECT_EQ(weld[3], weld[1]);
+  EXPECT_EQ(weld[4], weld[2]);
+  EXPECT_NE(weld[5], weld[1]);
+}
+
 TEST(Prepare, OrientationIsMadeConsistentAndOutward) {
   PolyMesh m = test::icosphere(2);
   PolyMesh flipped;
