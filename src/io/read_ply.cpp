@@ -237,6 +237,43 @@ class BodyReader {
   int64_t body_line_;
 };
 
+// The fewest bytes one binary instance of `e` takes: its scalars and list counts (a list may
+// be empty).
+std::size_t min_binary_bytes(const Element& e) {
+  std::size_t n = 0;
+  for (const Property& p : e.properties) n += scalar_size(p.is_list ? p.count_type : p.type);
+  return n;
+}
+
+// Rejects binary element counts the body cannot hold before anything is read or allocated: a
+// corrupt header ("element vertex 4000000000") fails at once, naming the element, instead of
+// reserving gigabytes or looping over instances without bytes. (An ascii instance takes a line
+// each, so there the count is checked line by line, E015.)
+void check_binary_counts(const Header& h, std::size_t body_bytes, const std::string& file) {
+  std::size_t left = body_bytes;
+  for (const Element& e : h.elements) {
+    const std::size_t per = min_binary_bytes(e);
+    if (per == 0) continue;  // no properties: instances without bytes
+    if (uint64_t(e.count) > left / per)
+      fail_at_line(file, e.header_line, kTruncated,
+                   fmt::format("the header declares {} '{}' elements of {} bytes or more, but "
+                               "only {} bytes follow the header",
+                               e.count, e.name, per, body_bytes));
+    left -= std::size_t(e.count) * per;
+  }
+}
+
+// A list count as an integer; past what the file's bytes can hold (each item takes one at
+// least) it is corrupt, and converting it would overflow.
+template <class Fail>
+int64_t list_count(double n, std::size_t file_bytes, Fail&& where) {
+  if (!(n >= 0) || n != std::floor(n)) where(kSyntax, fmt::format("invalid list count {}", n));
+  if (n > double(file_bytes))
+    where(kCountMismatch,
+          fmt::format("list count {} is more than the file's {} bytes can hold", n, file_bytes));
+  return int64_t(n);
+}
+
 }  // namespace
 
 ReadResult read_ply(std::string_view bytes, const std::string& file, const ReadOptions& options) {
@@ -244,6 +281,7 @@ ReadResult read_ply(std::string_view bytes, const std::string& file, const ReadO
   result.format = MeshFormat::ply;
   const Header h = parse_header(bytes, file);
   result.binary = h.encoding != Encoding::ascii;
+  if (result.binary) check_binary_counts(h, bytes.size() - h.body_offset, file);
   BodyReader body(bytes, h, file);
   auto where = [&](const char* code, const std::string& msg) {
     if (body.ascii()) fail_at_line(file, body.line(), code, msg);
@@ -278,6 +316,7 @@ ReadResult read_ply(std::string_view bytes, const std::string& file, const ReadO
     if (is_face && !have_vertices)
       fail_at_line(file, e.header_line, kSyntax,
                    "the face element comes before the vertex element");
+    if (result.binary && min_binary_bytes(e) == 0) continue;  // nothing to read, however many
     for (int64_t i = 0; i < e.count; ++i) {
       body.begin_instance(e, i);
       Vec3 p;
@@ -290,13 +329,18 @@ ReadResult read_ply(std::string_view bytes, const std::string& file, const ReadO
             if (k == xyz[c]) p[c] = v;
           continue;
         }
-        const double n = body.value(prop.count_type, "a list count");
-        if (n < 0 || n != std::floor(n)) where(kSyntax, fmt::format("invalid list count {}", n));
-        for (int64_t j = 0; j < int64_t(n); ++j) {
+        const int64_t n =
+            list_count(body.value(prop.count_type, "a list count"), bytes.size(), where);
+        for (int64_t j = 0; j < n; ++j) {
           const double v = body.value(prop.type, prop.name);
           if (k == list) {
             if (v != std::floor(v))
               where(kSyntax, fmt::format("vertex index {} is not an integer", v));
+            // Beyond 2^53 no count reaches it, and beyond 2^63 the conversion would overflow.
+            if (std::fabs(v) > 0x1p53)
+              where(kIndexRange,
+                    fmt::format("face references vertex {} but the file has {} vertices", v,
+                                result.mesh.num_vertices()));
             idx.push_back(int64_t(v));
           }
         }

@@ -7,42 +7,65 @@ namespace isoquad::prep {
 
 namespace {
 
-// Ear clipping in the plane of the polygon's Newell normal; a fan for what is left if the
-// polygon is not simple (no ear can be found).
-void ear_clip(const std::vector<Vec3>& P, std::vector<uint32_t> poly, std::vector<Tri>& out) {
+// Ear clipping in the plane of the polygon's Newell normal, always clipping the first ear in
+// the polygon's order; a fan for what is left if the polygon is not simple (no ear can be
+// found). Each corner's ear test is kept, with the corner found inside its triangle, and redone
+// only when a neighbour or that corner is clipped: the same ears as testing every corner again
+// after each clip, in O(n^2) rather than O(n^3) (a 400-gon took 6 s under the sanitizers, a
+// 30,000-gon would take hours).
+void ear_clip(const std::vector<Vec3>& P, const std::vector<uint32_t>& poly,
+              std::vector<Tri>& out) {
+  const uint32_t m = uint32_t(poly.size());
   Vec3 n;
-  for (std::size_t i = 0; i < poly.size(); ++i)
-    n += cross(P[poly[i]], P[poly[(i + 1) % poly.size()]]);
+  for (uint32_t i = 0; i < m; ++i) n += cross(P[poly[i]], P[poly[(i + 1) % m]]);
   const Vec3 axis = normalized(n);
   const Vec3 helper = std::fabs(axis.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
   const Vec3 ex = normalized(cross(helper, axis)), ey = cross(axis, ex);
-  auto uv = [&](uint32_t v) { return std::pair<double, double>{dot(P[v], ex), dot(P[v], ey)}; };
+  std::vector<std::pair<double, double>> uv(m);  // by position in `poly`, as all below
+  for (uint32_t i = 0; i < m; ++i) uv[i] = {dot(P[poly[i]], ex), dot(P[poly[i]], ey)};
   auto orient = [&](uint32_t a, uint32_t b, uint32_t c) {
-    const auto [ax, ay] = uv(a);
-    const auto [bx, by] = uv(b);
-    const auto [cx, cy] = uv(c);
+    const auto [ax, ay] = uv[a];
+    const auto [bx, by] = uv[b];
+    const auto [cx, cy] = uv[c];
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
   };
-  while (poly.size() > 3) {
-    bool clipped = false;
-    const std::size_t m = poly.size();
-    for (std::size_t i = 0; i < m && !clipped; ++i) {
-      const uint32_t a = poly[(i + m - 1) % m], b = poly[i], c = poly[(i + 1) % m];
-      if (orient(a, b, c) <= 0) continue;  // reflex or flat corner
-      bool empty = true;
-      for (std::size_t j = 0; j < m && empty; ++j) {
-        const uint32_t p = poly[j];
-        if (p == a || p == b || p == c) continue;
-        empty = !(orient(a, b, p) >= 0 && orient(b, c, p) >= 0 && orient(c, a, p) >= 0);
+  std::vector<uint32_t> prev(m), next(m);
+  for (uint32_t i = 0; i < m; ++i) prev[i] = (i + m - 1) % m, next[i] = (i + 1) % m;
+  std::vector<char> ear(m, 0);
+  std::vector<uint32_t> inside(m, kInvalid);     // a corner inside corner i's triangle
+  std::vector<std::vector<uint32_t>> blocks(m);  // corners that corner i was found inside
+  auto test = [&](uint32_t b) {
+    const uint32_t a = prev[b], c = next[b];
+    ear[b] = 0;
+    inside[b] = kInvalid;
+    if (orient(a, b, c) <= 0) return;  // reflex or flat corner
+    for (uint32_t p = next[c]; p != a; p = next[p])
+      if (orient(a, b, p) >= 0 && orient(b, c, p) >= 0 && orient(c, a, p) >= 0) {
+        inside[b] = p;
+        blocks[p].push_back(b);
+        return;
       }
-      if (!empty) continue;
-      out.push_back({a, b, c});
-      poly.erase(poly.begin() + std::ptrdiff_t(i));
-      clipped = true;
-    }
-    if (!clipped) break;
+    ear[b] = 1;
+  };
+  for (uint32_t i = 0; i < m; ++i) test(i);
+  uint32_t first = 0, left = m;
+  while (left > 3) {
+    uint32_t b = first;
+    while (!ear[b] && next[b] != first) b = next[b];
+    if (!ear[b]) break;
+    const uint32_t a = prev[b], c = next[b];
+    out.push_back({poly[a], poly[b], poly[c]});
+    next[a] = c, prev[c] = a;
+    if (first == b) first = c;
+    --left;
+    ear[b] = 0;
+    for (const uint32_t q : blocks[b])
+      if (inside[q] == b && q != a && q != c) test(q);
+    test(a);
+    test(c);
   }
-  for (std::size_t i = 1; i + 1 < poly.size(); ++i) out.push_back({poly[0], poly[i], poly[i + 1]});
+  for (uint32_t b = next[first]; next[b] != first; b = next[b])
+    out.push_back({poly[first], poly[b], poly[next[b]]});
 }
 
 }  // namespace

@@ -44,7 +44,10 @@ std::vector<uint32_t> weld_map(const PolyMesh& soup, bool all, double eps, uint3
 
   UnionFind uf(n);
   const auto& P = soup.positions;
-  if (eps <= 0) {
+  // Exact duplicates first, by sorting: all a zero eps welds, and with eps > 0 the grid below
+  // then sees one vertex per position (an STL soup has each about six times; a heap of copies
+  // at one point made it quadratic).
+  {
     auto less = [&](uint32_t a, uint32_t b) {
       if (P[a].x != P[b].x) return P[a].x < P[b].x;
       if (P[a].y != P[b].y) return P[a].y < P[b].y;
@@ -54,11 +57,19 @@ std::vector<uint32_t> weld_map(const PolyMesh& soup, bool all, double eps, uint3
     std::sort(candidates.begin(), candidates.end(), less);
     for (std::size_t i = 1; i < candidates.size(); ++i)
       if (P[candidates[i]] == P[candidates[i - 1]]) uf.unite(candidates[i], candidates[i - 1]);
-  } else {
+  }
+  if (eps > 0) {
+    std::erase_if(candidates, [&](uint32_t v) { return uf.find(v) != v; });
     // Spatial hash with cells of size eps; neighbours within eps are in the 27 adjacent cells.
+    // Cells are numbered from the candidates' lower corner and are at least 2^-40 of their
+    // extent, so numbers stay below 2^40: a tiny eps (--weld-eps 1e-30) numbered them past
+    // int64 (undefined), and clamping the numbers would put every vertex in one cell.
+    Box3 box;
+    for (uint32_t v : candidates) box.add(P[v]);
+    const double size = std::max(eps, std::ldexp(box.diagonal(), -40));
     auto cell = [&](Vec3 p) {
-      return std::array<int64_t, 3>{int64_t(std::floor(p.x / eps)), int64_t(std::floor(p.y / eps)),
-                                    int64_t(std::floor(p.z / eps))};
+      const Vec3 q = (p - box.lo) / size;
+      return std::array<int64_t, 3>{int64_t(q.x), int64_t(q.y), int64_t(q.z)};
     };
     auto key = [](const std::array<int64_t, 3>& c) {
       return uint64_t(c[0]) * 73856093u ^ uint64_t(c[1]) * 19349663u ^ uint64_t(c[2]) * 83492791u;

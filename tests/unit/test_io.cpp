@@ -257,6 +257,22 @@ INSTANTIATE_TEST_SUITE_P(
                   "property float y\nproperty float z\nend_header\n" +
                       std::string(20, '\0'),
                   "E011"},
+        // Found by fuzzing (fuzz/fuzz_ply): counts and indices past what the file can hold.
+        Malformed{"PlyBinaryCountBeyondFile", MeshFormat::ply,
+                  "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+                  "property float x\nproperty float y\nproperty float z\nend_header\n" +
+                      std::string(36, '\0'),
+                  "E011"},
+        Malformed{"PlyHugeListCount", MeshFormat::ply,
+                  "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                  "property float z\nelement face 1\nproperty list double int vertex_indices\n"
+                  "end_header\n0 0 0\n1 0 0\n0 1 0\n1e300 0 1 2\n",
+                  "E015"},
+        Malformed{"PlyHugeVertexIndex", MeshFormat::ply,
+                  "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                  "property float z\nelement face 1\nproperty list uchar double vertex_indices\n"
+                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 -1e300\n",
+                  "E012"},
         Malformed{"StlTruncatedBinary", MeshFormat::stl,
                   binary_stl({{0, 0, 0, 1, 0, 0, 0, 1, 0}}, 2), "E011"},
         Malformed{"StlShortHeader", MeshFormat::stl, std::string(40, '\1'), "E011"},
@@ -279,6 +295,30 @@ TEST(IO, MessagesNameFileAndLine) {
   EXPECT_NE(
       message_of(binary_stl({{0, 0, 0, 1, 0, 0, 0, 1, 0}}, 2), MeshFormat::stl).find("(byte 134)"),
       std::string::npos);
+}
+
+TEST(IO, PlyCountBeyondFileNamesTheElementBeforeAllocating) {
+  const std::string ply =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 4000000000\nproperty list uchar int vertex_indices\n"
+      "end_header\n" +
+      std::string(36, '\0');
+  const std::string message = message_of(ply, MeshFormat::ply);
+  EXPECT_NE(message.find("bad.mesh:7:"), std::string::npos) << message;
+  EXPECT_NE(message.find("4000000000 'face' elements"), std::string::npos) << message;
+}
+
+// A binary element without properties takes no bytes, however many it declares: skipped at
+// once (looping over 9e18 instances of nothing was a hang the fuzzer found).
+TEST(IO, PlyBinaryElementWithoutPropertiesIsSkipped) {
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement marker 9000000000000000000\n"
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  for (float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) put<float>(ply, f);
+  put<uint8_t>(ply, 3);
+  for (int32_t i : {0, 1, 2}) put<int32_t>(ply, i);
+  EXPECT_EQ(read_mesh_from_memory(ply, MeshFormat::ply, "t.ply").mesh.num_faces(), 1u);
 }
 
 TEST(IO, RepairDropsDegenerateFacesWithACount) {
