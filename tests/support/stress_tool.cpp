@@ -1,0 +1,169 @@
+// The generated stress set (stress_shapes.hpp) outside the tests:
+//
+//   stress_shapes list                  each case: family, triangles, Euler characteristic, params
+//   stress_shapes dump DIR [--diagonal D]...   every mesh as DIR/NAME.obj (NAME_dD.obj when
+//                                       scaled), to look at or to give to `isoquad remesh`
+//   stress_shapes run --csv FILE [--segmentation vsa|field] [--quads Q]... [--diagonal D]...
+//                     [--ci] [--only NAME]... [--shard I/N] [--threads T]
+//       remeshes every case at every size and diagonal and appends one row per run to FILE (read
+//       first: the runs it has are skipped, so an interrupted run goes on where it stopped).
+//
+// The rows: status (ok, or the error code), quads, the validity of issue 32 (pure quad,
+// manifold, oriented, the input's topology, no quad with scaled Jacobian <= 0.001 against its own
+// normal, at a count within 10%), the scaled Jacobian (mean, min), quads at most 0.001, quads
+// folded against the surface, the share of quads of aspect above 2, the output's diagonal over
+// the input's and the seconds of the remesh. scripts/stress-table summarizes them.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <string>
+
+#include "io/write_mesh.hpp"
+#include "isoquad/error.hpp"
+#include "metrics/quality.hpp"
+#include "pipeline/remesh.hpp"
+#include "stress_shapes.hpp"
+
+using namespace isoquad;
+using isoquad::test::StressCase;
+
+namespace {
+
+double diagonal_of(const PolyMesh& m) {
+  Box3 box;
+  for (const Vec3& p : m.positions) box.add(p);
+  return box.diagonal();
+}
+
+const char* kHeader =
+    "name,family,segmentation,quads_asked,diagonal,status,quads,valid,count_ok,sj_mean,sj_min,"
+    "sj_invalid,folded,aspect_above_2,scale_ratio,seconds";
+
+// One run's row (without its key columns).
+std::string run_one(const StressCase& c, const std::string& segmentation, double quads,
+                    double diagonal, uint32_t threads) {
+  const PolyMesh input = test::scaled_to_diagonal(test::build_stress_mesh(c), diagonal);
+  RemeshOptions o;
+  o.quads = quads;
+  o.segmentation = segmentation;
+  o.threads = threads;
+  o.quality = false;
+  const auto start = std::chrono::steady_clock::now();
+  RemeshRun run;
+  try {
+    run = remesh_run(input, o);
+  } catch (const Error& e) {
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return fmt::format("{},,,,,,,,,,{:.1f}", e.code(), s);
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const PolyMesh& q = run.result.quads;
+  const QualityReport r = measure_quality(q, &input);
+  const bool valid = r.pure_quad && r.edge_manifold && r.vertex_manifold && r.oriented &&
+                     r.same_topology && r.sj_invalid == 0;
+  const bool count_ok = quads == 0 || std::fabs(double(q.num_faces()) - quads) <= 0.1 * quads;
+  return fmt::format("ok,{},{},{},{:.4f},{:.4f},{},{},{:.2f},{:.4f},{:.1f}", q.num_faces(),
+                     int(valid), int(count_ok), r.sj_mean, r.sj_min, r.sj_invalid,
+                     r.sj_surface_nonpositive, r.aspect_above_2, diagonal_of(q) / diagonal,
+                     seconds);
+}
+
+int run(const std::string& csv, const std::string& segmentation, const std::vector<double>& sizes,
+        const std::vector<double>& diagonals, const std::vector<const StressCase*>& cases,
+        int shard, int shards, uint32_t threads) {
+  std::set<std::string> done;
+  {
+    std::ifstream in(csv);
+    for (std::string line; std::getline(in, line);) {
+      std::size_t cut = 0;
+      for (int k = 0; k < 5 && cut != std::string::npos; ++k) cut = line.find(',', cut + 1);
+      done.insert(line.substr(0, cut));
+    }
+  }
+  const bool fresh = done.empty();
+  std::ofstream out(csv, std::ios::app);
+  if (fresh) out << kHeader << "\n" << std::flush;
+  int job = 0;
+  for (const StressCase* c : cases)
+    for (double quads : sizes)
+      for (double d : diagonals) {
+        if (job++ % shards != shard) continue;
+        const std::string key =
+            fmt::format("{},{},{},{},{:g}", c->name, c->family, segmentation, quads, d);
+        if (done.count(key)) continue;
+        std::cerr << key << std::endl;
+        out << key << "," << run_one(*c, segmentation, quads, d, threads) << "\n" << std::flush;
+      }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"The generated stress set of issue 32"};
+  app.require_subcommand(1);
+  auto* list = app.add_subcommand("list", "List the cases");
+  auto* dump = app.add_subcommand("dump", "Write every mesh as OBJ");
+  std::string dir;
+  std::vector<double> diagonals;
+  dump->add_option("dir", dir)->required();
+  dump->add_option("--diagonal", diagonals, "bounding-box diagonals (default: as built)");
+  auto* runs = app.add_subcommand("run", "Remesh the cases, one CSV row per run");
+  std::string csv, segmentation = "vsa", shard_arg = "0/1";
+  std::vector<double> sizes;
+  std::vector<std::string> only;
+  bool ci = false;
+  uint32_t threads = 0;
+  runs->add_option("--csv", csv)->required();
+  runs->add_option("--segmentation", segmentation);
+  runs->add_option("--quads", sizes, "quad counts (0: the default size; default 1500 and 0)");
+  runs->add_option("--diagonal", diagonals, "bounding-box diagonals (default 1e-3 and 1e3)");
+  runs->add_flag("--ci", ci, "only the CI subset");
+  runs->add_option("--only", only, "only these cases");
+  runs->add_option("--shard", shard_arg, "I/N: every N-th run from the I-th");
+  runs->add_option("--threads", threads);
+  CLI11_PARSE(app, argc, argv);
+
+  std::vector<const StressCase*> cases;
+  if (ci) {
+    cases = test::stress_ci_cases();
+  } else {
+    for (const StressCase& c : test::stress_cases())
+      if (only.empty() || std::find(only.begin(), only.end(), c.name) != only.end())
+        cases.push_back(&c);
+  }
+  if (list->parsed()) {
+    for (const StressCase* c : cases) {
+      const auto start = std::chrono::steady_clock::now();
+      const PolyMesh m = test::build_stress_mesh(*c);
+      fmt::print("{}\t{}\t{}\t{}\t{:.2f}s\t{}\n", c->name, m.num_faces(), c->euler,
+                 c->boundary_loops,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                 c->params);
+    }
+    return 0;
+  }
+  if (dump->parsed()) {
+    std::filesystem::create_directories(dir);
+    for (const StressCase* c : cases) {
+      const PolyMesh m = test::build_stress_mesh(*c);
+      if (diagonals.empty()) write_mesh(std::filesystem::path(dir) / (c->name + ".obj"), m);
+      for (double d : diagonals)
+        write_mesh(std::filesystem::path(dir) / fmt::format("{}_d{:g}.obj", c->name, d),
+                   test::scaled_to_diagonal(m, d));
+    }
+    return 0;
+  }
+  if (sizes.empty()) sizes = {1500, 0};
+  if (diagonals.empty()) diagonals = {1e-3, 1e3};
+  int shard = 0, shards = 1;
+  if (std::sscanf(shard_arg.c_str(), "%d/%d", &shard, &shards) != 2 || shards < 1) return 2;
+  return run(csv, segmentation, sizes, diagonals, cases, shard, shards, threads);
+}
