@@ -13,7 +13,8 @@
 // quad, manifold, oriented, the input's topology, no quad with scaled Jacobian <= 0.001 against its
 // own normal, at a count within 10%), the scaled Jacobian (mean, min), quads at most 0.001, quads
 // folded against the surface, the share of quads of aspect above 2, the output's diagonal over
-// the input's and the seconds of the remesh. scripts/stress-table summarizes them.
+// the input's, the seconds of the remesh and which layout the components got (field, or vsa where
+// the field's fell back). scripts/stress-table summarizes them.
 #include <fmt/format.h>
 #include <poll.h>
 #include <sys/wait.h>
@@ -25,6 +26,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 
@@ -47,7 +49,7 @@ double diagonal_of(const PolyMesh& m) {
 
 const char* kHeader =
     "name,family,segmentation,quads_asked,diagonal,status,quads,valid,count_ok,sj_mean,sj_min,"
-    "sj_invalid,folded,aspect_above_2,scale_ratio,seconds";
+    "sj_invalid,folded,aspect_above_2,scale_ratio,seconds,layout";
 
 // One run's row (without its key columns).
 std::string run_one(const StressCase& c, const std::string& segmentation, double quads,
@@ -74,10 +76,14 @@ std::string run_one(const StressCase& c, const std::string& segmentation, double
   const bool valid = r.pure_quad && r.edge_manifold && r.vertex_manifold && r.oriented &&
                      r.same_topology && r.sj_invalid == 0;
   const bool count_ok = quads == 0 || std::fabs(double(q.num_faces()) - quads) <= 0.1 * quads;
-  return fmt::format("ok,{},{},{},{:.4f},{:.4f},{},{},{:.2f},{:.4f},{:.1f}", q.num_faces(),
+  // Which segmentation laid out the components: a field layout can fall back to VSA.
+  std::set<std::string> sources;
+  for (const auto& comp : nlohmann::json::parse(run.result.report).at("components"))
+    sources.insert(comp.value("layout_source", "vsa"));
+  return fmt::format("ok,{},{},{},{:.4f},{:.4f},{},{},{:.2f},{:.4f},{:.1f},{}", q.num_faces(),
                      int(valid), int(count_ok), r.sj_mean, r.sj_min, r.sj_invalid,
-                     r.sj_surface_nonpositive, r.aspect_above_2, diagonal_of(q) / diagonal,
-                     seconds);
+                     r.sj_surface_nonpositive, r.aspect_above_2, diagonal_of(q) / diagonal, seconds,
+                     sources.size() == 1 ? *sources.begin() : "mixed");
 }
 
 // run_one in a child process, so that a crash is a row ("crash") and a run past `timeout`
