@@ -77,8 +77,9 @@ std::string run_one(const StressCase& c, const std::string& segmentation, double
                      r.same_topology && r.sj_invalid == 0;
   const bool count_ok = quads == 0 || std::fabs(double(q.num_faces()) - quads) <= 0.1 * quads;
   // Which segmentation laid out the components: a field layout can fall back to VSA.
+  const nlohmann::json report = nlohmann::json::parse(run.result.report);
   std::set<std::string> sources;
-  for (const auto& comp : nlohmann::json::parse(run.result.report).at("components"))
+  for (const auto& comp : report.at("components"))
     sources.insert(comp.value("layout_source", "vsa"));
   return fmt::format("ok,{},{},{},{:.4f},{:.4f},{},{},{:.2f},{:.4f},{:.1f},{}", q.num_faces(),
                      int(valid), int(count_ok), r.sj_mean, r.sj_min, r.sj_invalid,
