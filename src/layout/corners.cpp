@@ -185,13 +185,13 @@ MilpResult corner_ilp(const TriMesh& mesh, const MetaMesh& meta,
   }
   if (feasible == 2) {  // any feasible choice: a pure feasibility problem, found fast
     std::fill(lp.objective.begin(), lp.objective.end(), 0.0);
-    return solve_milp(lp, o.time_limit);
+    return solve_milp(lp, o.time_limit, 0, kOptimalNodeLimit);
   }
   // The feasibility-aware program is a repair: a choice within 5% of the best, found within 200
   // branch-and-bound nodes (a bound on effort that does not depend on the machine's speed), is
   // good enough; the feasibility-only choice is the fallback.
-  if (feasible) return solve_milp(lp, 10 * o.time_limit, 0.05, 200);
-  return solve_milp(lp, o.time_limit, 0, 0, false);
+  if (feasible) return solve_milp(lp, o.time_limit, 0.05, 200);
+  return solve_milp(lp, o.time_limit, 0, kOptimalNodeLimit, false);
 }
 
 }  // namespace

@@ -82,7 +82,10 @@ struct LayoutOptions {
   // 5 -> 5 at 1,500 quads and 6 -> 3 at the default size (the armadillo's Hausdorff there
   // 0.93 -> 1.28%). At 1.5 or 2 with one meta-edge's weight it had cost folds (9 -> 12).
   double area_dimension_threshold = 2;
-  double time_limit = 10;  // seconds per ILP
+  // Seconds per ILP: a safety net only. Every solve's effort is bounded by nodes (a bound that
+  // does not depend on the machine), so the output does not depend on the machine's load; this
+  // is reached only by a program far harder than a layout's.
+  double time_limit = 120;
   // Per patch, its corners as MetaFace::cycle indices (increasing), taken as they are: no
   // refinement, and candidates and the corner ILP only for the patches given kFreeCorners (the
   // field-aligned layout knows the others). If they do not admit positive lengths, the layout

@@ -42,6 +42,8 @@ struct MilpResult {
 // `preprocess` runs CBC's integer preprocessing first; on the layout's small programs solved to
 // optimality it costs more than it saves (fandisk at 1,500 quads: the length ILP 11.6 ->
 // 8.4 ms, the corner ILP 12.5 -> 8 ms, with the same solutions on the whole corpus).
+// The node bound of a solve that is to be optimal: reached, the best solution found is taken.
+constexpr int kOptimalNodeLimit = 20000;
 MilpResult solve_milp(const MilpProblem& problem, double time_limit = 10.0,
                       double relative_gap = 0.0, int node_limit = 0, bool preprocess = true);
 // The LP relaxation with Clp (integrality ignored).
