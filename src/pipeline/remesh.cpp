@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -21,6 +23,18 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The process's peak resident memory so far (not this call's alone: in a long-lived process,
+// e.g. Python, it includes what came before). Linux's ru_maxrss is in KiB, macOS's in bytes.
+long long peak_rss_bytes() {
+  rusage u{};
+  if (getrusage(RUSAGE_SELF, &u) != 0) return 0;
+#ifdef __APPLE__
+  return static_cast<long long>(u.ru_maxrss);
+#else
+  return 1024LL * u.ru_maxrss;
+#endif
 }
 
 nlohmann::json options_json(const RemeshOptions& o) {
@@ -150,6 +164,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   std::optional<tbb::global_control> limit;
   if (opt.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, opt.threads);
   auto t0 = std::chrono::steady_clock::now();
+  const auto start = t0;
   RemeshRun run;
   run.prep = check_input(input, opt, unshared_vertices);  // the options first, then the input
   const PreparedMesh& prep = run.prep;
@@ -429,13 +444,14 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                       {"options", options_json(opt)},
                       {"components", comps},
                       {"warnings", run.warnings},
-                      {"seconds", {{"prepare", prep_s}}}};
+                      {"seconds", {{"prepare", prep_s}, {"remesh", seconds_since(start)}}}};
   if (opt.quality) {
     meter.reach(kPrepareShare + component_share, "quality");
     t0 = std::chrono::steady_clock::now();
     j["quality"] = measure_quality(out.quads, &input);
     j["seconds"]["quality"] = seconds_since(t0);
   }
+  j["peak_rss_bytes"] = peak_rss_bytes();
   out.report = j.dump(2);
   meter.reach(1, "done");
   return run;

@@ -99,6 +99,13 @@ class Remesh(unittest.TestCase):
             self.assertIs(report["options"]["allow_topology_change"], allow)
             self.assertFalse(any(w["code"] == "W113" for w in report["warnings"]))
 
+    def test_the_report_has_the_peak_memory(self):
+        # getrusage's peak for the whole process, this one's numpy included: more than a MB.
+        V, F = isoquad.read(DATA / "sphere.off")
+        _, _, report = isoquad.remesh(V, F, quads=300, quality=False)
+        self.assertIsInstance(report["peak_rss_bytes"], int)
+        self.assertGreater(report["peak_rss_bytes"], 1 << 20)
+
     def test_an_exception_in_the_progress_callback_ends_the_run(self):
         V, F = isoquad.read(DATA / "sphere.off")
 

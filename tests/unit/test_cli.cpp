@@ -282,6 +282,21 @@ TEST(Cli, RemeshJsonStdoutIsOneDocumentWhateverHappens) {
   std::filesystem::remove(out);
 }
 
+// The JSON has the process's peak resident memory (getrusage), for bench/peers and batch users:
+// any process that read and remeshed a mesh has used more than a megabyte.
+TEST(Cli, RemeshJsonHasThePeakMemory) {
+  const auto in = std::filesystem::temp_directory_path() / "isoquad_cli_peak.off";
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_peak_quads.obj";
+  isoquad::write_mesh(in, isoquad::test::icosphere(3));
+  const CliRun r = run("remesh -q --quads 300 --json " + in.string() + " -o " + out.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(doc["peak_rss_bytes"].is_number_integer()) << r.out;
+  EXPECT_GT(doc["peak_rss_bytes"].get<long long>(), 1LL << 20);
+  std::filesystem::remove(in);
+  std::filesystem::remove(out);
+}
+
 // Every repair preparation makes is said by remesh on stderr (unless -q) and listed in the
 // JSON's "warnings" (before, only `info` told them): here a duplicate face and an unused vertex.
 TEST(Cli, RemeshSaysEveryRepairOnStderrAndInTheJson) {
