@@ -92,30 +92,42 @@ struct Untangler {
     return tree.normal_at_closest(at(q[k], m) + 0.05 * (e1 + e2), face_of(q[k], m));
   }
 
-  // The scaled Jacobians of quad f's four corners, as the moves judge them: a corner on an
-  // edge shorter than `short_edge` counts its positive value scaled down by the edge's share of
-  // it, and one on a collapsed edge counts -1. The scaled Jacobian alone does not see edge
-  // length, and on fandisk folds were traded for quads with two coincident corners.
-  // `known` >= 0 names a corner whose value is passed in `known_value` instead of computed.
-  // `m`: a trial place of one vertex.
-  std::array<double, 4> corner_sj(uint32_t f, int known = -1, double known_value = 0,
+  // Corner k of quad f against the surface normal: n . (e1 x e2) / (|e1| |e2|), -1 on an edge of
+  // length 0.
+  double surface_corner_sj(uint32_t f, int k, const Moved& m = {}) const {
+    const auto& q = qm.quads[f];
+    const Vec3& p = at(q[k], m);
+    const Vec3 e1 = at(q[(k + 1) % 4], m) - p, e2 = at(q[(k + 3) % 4], m) - p;
+    const double l = norm(e1) * norm(e2);
+    return l > 0 ? dot(corner_normal(q, k, e1, e2, m), cross(e1, e2)) / l : -1.0;
+  }
+
+  // The scaled Jacobians of quad f's four corners, as the moves judge them: each the lower of
+  // its value against the surface normal and against the quad's own (Newell) normal. The
+  // surface alone accepts a quad bent across a ridge or a finger with a reflex corner in its own
+  // plane, which the output's validity (metrics/quality.hpp kMinValidScaledJacobian) refuses;
+  // the own normal alone accepts a quad turned over as a whole. A corner on an edge shorter than
+  // `short_edge` counts its positive value scaled down by the edge's share of it, and one on a
+  // collapsed edge counts -1: the scaled Jacobian alone does not see edge length, and on fandisk
+  // folds were traded for quads with two coincident corners.
+  // `known` >= 0 names a corner whose surface value is passed in `known_surface` instead of
+  // computed (the corner opposite a moved vertex: its edges and surface normal do not change,
+  // but its own-normal value does, with the quad's normal). `m`: a trial place of one vertex.
+  std::array<double, 4> corner_sj(uint32_t f, int known = -1, double known_surface = 0,
                                   const Moved& m = {}) const {
     const auto& q = qm.quads[f];
+    const std::array<double, 4> own =
+        quad_corner_scaled_jacobians({at(q[0], m), at(q[1], m), at(q[2], m), at(q[3], m)});
     std::array<double, 4> sj;
     for (int k = 0; k < 4; ++k) {
-      if (k == known) {
-        sj[k] = known_value;
-        continue;
-      }
       const Vec3& p = at(q[k], m);
       const Vec3 e1 = at(q[(k + 1) % 4], m) - p, e2 = at(q[(k + 3) % 4], m) - p;
-      const double l = norm(e1) * norm(e2);
-      if (!(l > 0)) {
+      const double shortest = std::min(norm(e1), norm(e2));
+      if (!(shortest > 0)) {
         sj[k] = -1;
         continue;
       }
-      sj[k] = dot(corner_normal(q, k, e1, e2, m), cross(e1, e2)) / l;
-      const double shortest = std::min(norm(e1), norm(e2));
+      sj[k] = std::min(k == known ? known_surface : surface_corner_sj(f, k, m), own[k]);
       if (sj[k] > 0 && shortest < short_edge) sj[k] *= shortest / short_edge;
     }
     return sj;
@@ -131,8 +143,8 @@ struct Untangler {
   struct Local {
     double shortfall = 0;
   };
-  // `opposite` holds, per quad at v, the value of its corner opposite v: moving v does not change
-  // it (its edges do not end at v), so a trial needs only the other three.
+  // `opposite` holds, per quad at v, the surface value of its corner opposite v: moving v does
+  // not change it (its edges do not end at v), so a trial looks up only three surface normals.
   // It stops once the sum reaches `stop`: terms are not negative, so such a trial cannot be
   // better than one at `stop` (the decisions are the same as with the whole sum).
   Local local_quality(uint32_t v, double cap, const std::vector<std::pair<int, double>>& opposite,
@@ -156,7 +168,7 @@ struct Untangler {
     for (const uint32_t f : around[v]) {
       const auto& q = qm.quads[f];
       const int k = int((std::find(q.begin(), q.end(), v) - q.begin() + 2) % 4);
-      opposite.push_back({k, corner_sj(f)[k]});
+      opposite.push_back({k, surface_corner_sj(f, k)});
     }
     const Local q0 = local_quality(v, cap, opposite);
     double len = 0;

@@ -1,11 +1,13 @@
 // Fold repair after extraction (beyond the paper). The map is certified bijective, so the
 // lattice points land on the surface in the right order, but a quad joins its four corners by
 // straight edges: where the map stretches strongly within one quad (near a corner whose surface
-// angle is far from 90 degrees, across a thin rim) the quad can fold against the surface. Each
-// corner of a quad whose scaled Jacobian against the surface normal is below `target` is moved
-// to the best of a few trial positions in its tangent plane, put back onto the surface by a
-// local walk: a move is taken if the squared shortfall of its quads' corners below `target`
-// drops (one energy over the whole mesh, so the sweeps end).
+// angle is far from 90 degrees, across a thin rim) the quad can fold against the surface, and
+// where it bends across a ridge it can have a reflex corner in its own plane. A corner counts
+// by the lower of its scaled Jacobians against the surface normal and against the quad's own
+// (Newell) normal, the measure of the output's validity (metrics/quality.hpp). Each corner of
+// a quad below `target` is moved to the best of a few trial positions in its tangent plane,
+// put back onto the surface by a local walk: a move is taken if the squared shortfall of its
+// quads' corners below `target` drops (one energy over the whole mesh, so the sweeps end).
 // Vertices on creases and the mesh boundary slide along them; meta-vertices where creases or
 // the boundary meet stay; other meta-vertices (singularities) move like any vertex. A move
 // must keep the vertex's original surface point close to its quads (`fidelity`), so tips are
@@ -42,8 +44,8 @@
 
 namespace isoquad {
 
-// Where collapses follow (collapse_rounds > 0), a quad counts as folded at a surface scaled
-// Jacobian at or below this, not only at or below 0: a corner of exactly 180 degrees (a patch
+// Where collapses follow (collapse_rounds > 0), a quad counts as folded at a scaled Jacobian
+// (the lower of surface and own normal, as the untangler measures it) at or below this, not only at or below 0: a corner of exactly 180 degrees (a patch
 // corner on a straight crease) reads 0 give or take rounding, +3e-16 here and -1e-16 in
 // `isoquad quality` after the output's scaling, and is degenerate either way. Before (the
 // pipeline's fold rounds), only quads at or below 0: counting these there too cost folded
@@ -51,7 +53,7 @@ namespace isoquad {
 constexpr double kFoldedAtOrBelow = 1e-3;
 
 struct UntangleOptions {
-  double target = 0.1;       // quads whose surface scaled Jacobian is below this are worked on
+  double target = 0.1;       // quads whose scaled Jacobian is below this are worked on
   uint32_t max_rounds = 30;  // sweeps over their corners
   bool slide = true;         // crease and boundary vertices may slide along them
   bool move_singularities = true;  // meta-vertices off creases and the boundary may move
@@ -70,15 +72,16 @@ struct UntangleOptions {
 };
 
 struct UntangleReport {
-  // Quads with surface scaled Jacobian <= 0, or <= kFoldedAtOrBelow where collapses follow.
+  // Quads with scaled Jacobian (the lower of surface and own normal) <= 0, or <=
+  // kFoldedAtOrBelow where collapses follow.
   uint32_t folded_before = 0, folded_after = 0;
   std::vector<uint32_t> folded;          // those left at the end, in order
-  double min_before = 1, min_after = 1;  // smallest surface scaled Jacobian
+  double min_before = 1, min_after = 1;  // smallest scaled Jacobian
   uint32_t rounds = 0, moves = 0;
   uint32_t collapsed = 0, doublets = 0;  // quads removed by diagonal collapses, and doublets
   uint32_t refused = 0;                  // folded quads no diagonal could be collapsed in
   uint32_t split = 0;                    // quads split in five at a 180-degree crease corner
-  uint32_t nonpositive = 0;              // at the end: quads with surface scaled Jacobian <= 0
+  uint32_t nonpositive = 0;              // at the end: quads with scaled Jacobian <= 0
   uint32_t degenerate = 0;               // and <= kFoldedAtOrBelow (those included)
   double seconds = 0;
 };

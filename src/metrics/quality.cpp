@@ -58,14 +58,21 @@ struct FaceShape {
 // The shape of the polygon whose i-th corner is at(i), of n corners. Its scaled Jacobian is the
 // minimum over its corners of n . (e1 x e2)/(|e1||e2|), n the Newell normal: 0 at a corner of
 // 180 degrees up to rounding, which kMinValidScaledJacobian counts as invalid with the folds.
+// The Newell vector of the polygon whose i-th corner is at(i): twice its vector area.
 template <class Corner>
-FaceShape polygon_shape(std::size_t count, Corner at, const AabbTree* reference) {
+Vec3 newell_vector(std::size_t count, Corner at) {
   Vec3 n;
   for (std::size_t i = 0; i < count; ++i) {
     const Vec3& a = at(i);
     const Vec3& b = at((i + 1) % count);
     n += Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
   }
+  return n;
+}
+
+template <class Corner>
+FaceShape polygon_shape(std::size_t count, Corner at, const AabbTree* reference) {
+  Vec3 n = newell_vector(count, at);
   FaceShape s;
   s.area = 0.5 * norm(n);
   n = normalized(n);
@@ -437,6 +444,17 @@ double quad_scaled_jacobian(const std::array<Vec3, 4>& q) {
   return polygon_shape(
              4, [&](std::size_t i) -> const Vec3& { return q[i]; }, nullptr)
       .sj;
+}
+
+std::array<double, 4> quad_corner_scaled_jacobians(const std::array<Vec3, 4>& q) {
+  const Vec3 n = normalized(newell_vector(4, [&](std::size_t i) -> const Vec3& { return q[i]; }));
+  std::array<double, 4> sj;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Vec3 e1 = q[(i + 1) % 4] - q[i], e2 = q[(i + 3) % 4] - q[i];
+    const double l = norm(e1) * norm(e2);
+    sj[i] = l > 0 ? dot(n, cross(e1, e2)) / l : 0.0;
+  }
+  return sj;
 }
 
 double quad_aspect_ratio(const std::array<Vec3, 4>& q) {

@@ -90,6 +90,10 @@ QualityReport measure_quality(const PolyMesh& quads, const PolyMesh* reference,
 // a corner with an edge of length 0.
 double quad_scaled_jacobian(const std::array<Vec3, 4>& q);
 
+// The same per corner: corner i's n . (e1 x e2)/(|e1||e2|), 0 where an edge has length 0 (their
+// minimum is quad_scaled_jacobian).
+std::array<double, 4> quad_corner_scaled_jacobians(const std::array<Vec3, 4>& q);
+
 // The aspect ratio of the quad (q0, q1, q2, q3), as QualityReport's: max(a, b) / min(a, b), a
 // the mean length of sides q0q1 and q2q3, b of q1q2 and q3q0; infinite where min(a, b) is 0.
 double quad_aspect_ratio(const std::array<Vec3, 4>& q);

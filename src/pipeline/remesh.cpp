@@ -289,26 +289,30 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
       if (!r.untangle_report.folded.empty() && r.surface_tree) {
         // The untangler's list also holds degenerate quads (at or below kFoldedAtOrBelow)
         // where collapses ran: the one named is the most folded, measured as the untangler
-        // does, against the surface normal just inside each corner.
+        // does, against the surface normal just inside each corner and the quad's own normal.
         const AabbTree& tree = *r.surface_tree;
+        const auto& p = r.quads.positions;
         uint32_t worst = r.untangle_report.folded.front();
         double lowest = INFINITY;
         for (const uint32_t f : r.untangle_report.folded) {
-          const double sj = quad_corner_sj(
-              r.quads, f, [&](uint32_t, const Vec3& x) { return tree.normal_at_closest(x); });
+          const auto& q = r.quads.quads[f];
+          const double sj = std::min(
+              quad_corner_sj(r.quads, f,
+                             [&](uint32_t, const Vec3& x) { return tree.normal_at_closest(x); }),
+              quad_scaled_jacobian({p[q[0]], p[q[1]], p[q[2]], p[q[3]]}));
           if (sj < lowest) lowest = sj, worst = f;
         }
         const auto& q = r.quads.quads[worst];
-        const auto& p = r.quads.positions;
         const Vec3 x = prep.normalization.invert(0.25 * (p[q[0]] + p[q[1]] + p[q[2]] + p[q[3]]));
         where = fmt::format(", {}near ({:.4g}, {:.4g}, {:.4g})", n == 1 ? "" : "the most folded ",
                             x.x, x.y, x.z);
       }
       say(
-          fmt::format("component {}: warning: {} quad{} still fold{} against the surface (a "
-                      "corner's scaled Jacobian at or below 0){}; another --quads or --seed may "
-                      "avoid {}",
-                      c, n, n == 1 ? "" : "s", n == 1 ? "s" : "", where, n == 1 ? "it" : "them"));
+          fmt::format("component {}: warning: {} quad{} still fold{} against the surface or "
+                      "{} own normal (a corner's scaled Jacobian at or below 0){}; another "
+                      "--quads or --seed may avoid {}",
+                      c, n, n == 1 ? "" : "s", n == 1 ? "s" : "", n == 1 ? "its" : "their", where,
+                      n == 1 ? "it" : "them"));
     }
     std::map<std::string, int> valence;
     // How far the integer lengths are from the geodesic ones: x_e / c_e per meta-edge.

@@ -2,8 +2,8 @@
 // vertex-manifold, consistently oriented, and has the input's components, boundary loops and
 // Euler characteristic; its quad count is what the layout promised and within 10% of the
 // request. Untangling never adds folds, no quad folds against the surface (52 quads over the
-// corpus once), no quad has a scaled Jacobian <= 0.001 against its own normal (except the
-// known ones below) and the Hausdorff distance is within 2% of the diagonal.
+// corpus once), no quad has a scaled Jacobian <= 0.001 against its own normal and the Hausdorff
+// distance is within 2% of the diagonal.
 // The run's report folder (pictures, layout, JSON, HTML) is complete and its numbers are the
 // output's quality.
 #include <gtest/gtest.h>
@@ -51,47 +51,22 @@ double shortest_edge(const PolyMesh& quads) {
 }
 
 // Quads with a scaled Jacobian <= 0.001 against their own normal (kMinValidScaledJacobian),
-// which validity forbids, that VSA layouts still leave: by corpus mesh and quad count asked for
-// (0: the default size), measured on 2026-12-04 (2-core Xeon): 46 quads on 11 meshes at 1,500
-// quads, 52 on 9 at the default size. None folds against the surface: they straddle a crease or
-// a sharp fold (fandisk's at 1,500 quads bends 100 degrees across a diagonal, and one corner reads
-// -0.024 against the mean normal). With four-sided patches forced (--split-patches) fandisk has
-// 16, one at -1, and 8 of them fold against the surface too (mech-holes-shark 19 and 11), which
-// that test does not assert either. Every other run here must have none, these no more; issue
-// 32's field-aligned layout is to bring them to none.
+// which validity forbids, that runs here still leave: by corpus mesh and quad count asked for.
+// Since the untangler counts a corner by the lower of its surface and own-normal values, the
+// VSA runs at 1,500 quads and at the default size have none (46 quads on 11 meshes and 52 on 9
+// before, each a quad bent across a crease or a sharp fold with a reflex corner in its own
+// plane). With four-sided patches forced (--split-patches), fandisk and mech-holes-shark keep
+// some at 180-degree crease corners that no move, collapse or split removes (measured
+// 2026-12-05: 8 and 15; 16 and 19 before), and some of those fold against the surface too,
+// which that test does not assert either. Every other run here must have none, these no more.
 struct KnownInvalid {
   const char* mesh;
   double quads;
   uint32_t count;
 };
 constexpr KnownInvalid kKnownInvalid[] = {
-    // at 1,500 quads
-    {"hand.off", 1500, 6},
-    {"cow.off", 1500, 16},
-    {"fandisk.off", 1500, 1},
-    {"armadillo.off", 1500, 7},
-    {"double-torus-example.off", 1500, 1},
-    {"knot1.off", 1500, 3},
-    {"rotor.off", 1500, 1},
-    {"elephant.off", 1500, 5},
-    {"mushroom.off", 1500, 1},
-    {"mech-holes-shark.off", 1500, 4},
-    {"three_peaks.off", 1500, 1},
-    // at the default size
-    {"cactus.off", 0, 1},
-    {"hand.off", 0, 3},
-    {"cow.off", 0, 20},
-    {"armadillo.off", 0, 6},
-    {"double-torus-example.off", 0, 1},
-    {"eight.off", 0, 3},
-    {"knot1.off", 0, 2},
-    {"elephant.off", 0, 15},
-    {"anchor.off", 0, 1},
-    // the runs of the tests below: the hand at 800 quads, four-sided patches (--split-patches)
-    {"hand.off", 800, 2},
-    {"fandisk.off --split-patches", 1500, 16},
-    {"eight.off --split-patches", 1500, 3},
-    {"mech-holes-shark.off --split-patches", 1500, 19},
+    {"fandisk.off --split-patches", 1500, 8},
+    {"mech-holes-shark.off --split-patches", 1500, 15},
 };
 
 // No quad not valid against its own normal, or no more than the known ones.
@@ -239,25 +214,43 @@ void expect_tip_split_kept_only_if_better(const RemeshRun& run, const QualityRep
   }
 }
 
+// Per quad, the lower of its scaled Jacobians against the surface and against its own normal,
+// as `quality` measures them: at or below 0, the quad folds (the untangler's measure).
+std::vector<double> lower_scaled_jacobians(const PolyMesh& quads, const ReadResult& input) {
+  std::vector<double> sj = surface_scaled_jacobians(quads, input.mesh);
+  for (std::size_t f = 0; f < quads.num_faces(); ++f) {
+    const auto v = quads.face(f);
+    const auto& x = quads.positions;
+    sj[f] = std::min(sj[f], quad_scaled_jacobian({x[v[0]], x[v[1]], x[v[2]], x[v[3]]}));
+  }
+  return sj;
+}
+
+// Quads folded against the surface or their own normal (lower_scaled_jacobians at or below 0).
+uint32_t folded_quads(const PolyMesh& quads, const ReadResult& input) {
+  const std::vector<double> sj = lower_scaled_jacobians(quads, input);
+  return uint32_t(std::count_if(sj.begin(), sj.end(), [](double s) { return s <= 0; }));
+}
+
 // A folded quad left in the output is said, with its count and where: the point named is the
-// centre of a quad folded against the surface, as `quality` measures it (`q`); with no fold
-// left, nothing is said.
+// centre of a quad folded against the surface or its own normal, as `quality` measures them;
+// with no fold left, nothing is said.
 void expect_folds_said(const std::vector<std::string>& said, const PolyMesh& quads,
-                       const ReadResult& input, const QualityReport& q) {
+                       const ReadResult& input) {
+  const std::vector<double> sj = lower_scaled_jacobians(quads, input);
+  const uint32_t folded = folded_quads(quads, input);
   const auto warning = std::find_if(said.begin(), said.end(), [](const std::string& s) {
     return s.find("still fold") != std::string::npos;
   });
-  EXPECT_EQ(warning != said.end(), q.sj_surface_nonpositive > 0);
+  EXPECT_EQ(warning != said.end(), folded > 0);
   if (warning == said.end()) return;
-  EXPECT_NE(warning->find(std::to_string(q.sj_surface_nonpositive) + " quad"), std::string::npos)
-      << *warning;
+  EXPECT_NE(warning->find(std::to_string(folded) + " quad"), std::string::npos) << *warning;
   Vec3 near;
   const std::size_t at = warning->find("near (");
   ASSERT_NE(at, std::string::npos) << *warning;
   ASSERT_EQ(std::sscanf(warning->c_str() + at, "near (%lf, %lf, %lf)", &near.x, &near.y, &near.z),
             3)
       << *warning;
-  const std::vector<double> sj = surface_scaled_jacobians(quads, input.mesh);
   std::size_t closest = 0;
   double best = INFINITY;
   for (std::size_t f = 0; f < quads.num_faces(); ++f) {
@@ -373,7 +366,7 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   // patch got a width target, knot1 2.16 -> 1.40% with tip snapping.
   EXPECT_LT(q.hausdorff, 0.02);
   // Nothing is said of folds (none is left).
-  expect_folds_said(said, quads, input, q);
+  expect_folds_said(said, quads, input);
   // Every output vertex lies on the input surface (placed through provenance), as the
   // preparation triangulated it (non-planar polygons have no other surface).
   std::vector<std::array<Vec3, 3>> tris;
@@ -488,8 +481,8 @@ TEST(CorpusQuadSplit, FourSidedPatchesGiveAValidMesh) {
 
 // The cactus at the default size: its quads cut an arm's end off, 1% of the diagonal and more
 // than 0.3 edge lengths; with such points patch corners the run again is kept and the distance
-// drops by a third or more (1.03% -> 0.62% when this was written). Without the split there is
-// one run.
+// drops by a fifth or more (1.03% -> 0.62% when this was written, 1.03% -> 0.76% since the
+// untangler takes the quads' own normals too). Without the split there is one run.
 TEST(CorpusTipSplit, CutOffArmEndBecomesACorner) {
   ISOQUAD_CORPUS_MESH(path, "cactus.off");
   const ReadResult input = read_mesh(path);
@@ -514,18 +507,19 @@ TEST(CorpusTipSplit, CutOffArmEndBecomesACorner) {
   EXPECT_TRUE(q.same_topology);
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
   expect_valid_against_own_normal(q, "cactus.off", 0);
-  EXPECT_LT(q.hausdorff, 0.7 * before);
+  EXPECT_LT(q.hausdorff, 0.8 * before);
   EXPECT_LT(q.hausdorff, 0.01);
 }
 
-// The eight at the default size: after its run (no tips found), its quads are 1.23% of the
-// diagonal from the surface, where big quads bridge the inner rims. The quads around the lattice
-// points nearest to the far points are cut at thirds in the same map, and the result is within
-// 1%, with a few more quads and irregular vertices where the finer quads end (1,307 -> 1,315 and
-// 22 -> 30 in one round when this was written; 1,391 and 70 in two rounds when whole quads were
-// cut). Without the refinement the first quads stay.
+// The anchor at the default size: after its run (no tip run kept), its quads are 1.27% of the
+// diagonal from the surface. The quads around the lattice points nearest to the far points are
+// cut at thirds in the same map, and the result is within 1%, with a few more quads and
+// irregular vertices where the finer quads end (2,161 -> 2,171 quads and 0.78% in one round when
+// this was written). Without the refinement the first quads stay. (The eight served here until
+// the untangler took the quads' own normals too: its first run now comes within 1% by the patch
+// rounds, with no refinement kept.)
 TEST(CorpusRefine, FarQuadsCutFinerReachTheTarget) {
-  ISOQUAD_CORPUS_MESH(path, "eight.off");
+  ISOQUAD_CORPUS_MESH(path, "anchor.off");
   const ReadResult input = read_mesh(path);
   const Without w = remesh_without(input, [](RemeshOptions& o) {
     o.refine = false;
@@ -540,7 +534,7 @@ TEST(CorpusRefine, FarQuadsCutFinerReachTheTarget) {
   ASSERT_GE(r.refine_round_kept, 1u);
   // Its first figures are the unrefined run's.
   EXPECT_EQ(r.refine_rounds.at(0).result.quads, once.result.quads.num_faces());
-  const QualityReport q = expect_valid_output(run.result.quads, input, "eight.off", 0);
+  const QualityReport q = expect_valid_output(run.result.quads, input, "anchor.off", 0);
   EXPECT_LT(q.hausdorff, kTipTarget);
   EXPECT_GT(run.result.quads.num_faces(), once.result.quads.num_faces());
   EXPECT_LT(double(run.result.quads.num_faces()), 1.2 * double(once.result.quads.num_faces()));
@@ -573,11 +567,12 @@ TEST(CorpusFoldWarning, FoldsLeftAreSaidWithWhere) {
   const QualityReport q = measure_quality(run.result.quads, &input.mesh);
   EXPECT_TRUE(q.pure_quad);
   EXPECT_TRUE(q.same_topology);
-  ASSERT_GT(q.sj_surface_nonpositive, 0u) << "no fold left: the test needs another case";
-  EXPECT_EQ(run.runs.at(0).untangle_report.nonpositive, q.sj_surface_nonpositive);
+  const uint32_t folded = folded_quads(run.result.quads, input);
+  ASSERT_GT(folded, 0u) << "no fold left: the test needs another case";
+  EXPECT_EQ(run.runs.at(0).untangle_report.nonpositive, folded);
   const auto json = nlohmann::json::parse(run.result.report)["components"][0]["untangle"];
-  EXPECT_EQ(json["nonpositive"].get<uint32_t>(), q.sj_surface_nonpositive);
-  expect_folds_said(said, run.result.quads, input, q);
+  EXPECT_EQ(json["nonpositive"].get<uint32_t>(), folded);
+  expect_folds_said(said, run.result.quads, input);
 }
 
 // The elephant at the default size: after its tip runs and the refinement its quads are still
@@ -634,33 +629,33 @@ TEST(CorpusPatchRounds, MorePatchesReachTheTarget) {
   EXPECT_TRUE(remesh_run(input.mesh, fixed, input.unshared_vertices).runs[0].patch_rounds.empty());
 }
 
-// The hand at 800 quads: its run without tips has 820 quads, 3.07% from the surface; with four
-// tips as patch corners it came to 1,149 quads (2.24%), and with nine to 1,185 (1.51%), far past
-// the count asked for. Tip runs past 1.1 times the count are not kept (788 quads, 2.46%, with
-// one tip when this was written).
+// The hand at 700 quads: its run without tips has 703 quads, 3.04% from the surface; with seven
+// tips as patch corners it came to 831 quads (1.61%), past the count asked for. Tip runs past 1.1
+// times the count are not kept (708 quads with one tip, refined to 758 and 1.75%, when this was
+// written; at 800 quads, where this test ran before, no tip run now passes the count).
 TEST(CorpusTipSplit, TipRunsKeepTheCountAskedFor) {
   ISOQUAD_CORPUS_MESH(path, "hand.off");
   const ReadResult input = read_mesh(path);
   RemeshOptions o;
-  o.quads = 800;
+  o.quads = 700;
   const RemeshRun run = remesh_run(input.mesh, o, input.unshared_vertices);
   const ComponentRun& r = run.runs.at(0);
   const auto& rounds = r.tip_rounds;
   ASSERT_GE(rounds.size(), 2u);
   // Some tip run went past the count (this is what the test is about)...
   EXPECT_TRUE(std::any_of(rounds.begin(), rounds.end(), [&](const auto& t) {
-    return double(t.result.quads) > kCountSlack * 800;
+    return double(t.result.quads) > kCountSlack * 700;
   }));
   // ...and the kept one is within it. The JSON lists each run's quads.
-  EXPECT_LE(double(rounds.at(r.tip_round_kept).result.quads), kCountSlack * 800);
+  EXPECT_LE(double(rounds.at(r.tip_round_kept).result.quads), kCountSlack * 700);
   const auto tried = nlohmann::json::parse(run.result.report)["components"][0]["tip_split"];
   ASSERT_EQ(tried["tried"].size(), rounds.size());
   for (std::size_t k = 0; k < rounds.size(); ++k)
     EXPECT_EQ(tried["tried"][k]["quads"].get<uint64_t>(), rounds[k].result.quads);
   const PolyMesh& quads = run.result.quads;
-  EXPECT_GE(double(quads.num_faces()), 0.9 * 800);
-  EXPECT_LE(double(quads.num_faces()), kCountSlack * 800);
-  const QualityReport q = expect_valid_output(quads, input, "hand.off", 800);
+  EXPECT_GE(double(quads.num_faces()), 0.9 * 700);
+  EXPECT_LE(double(quads.num_faces()), kCountSlack * 700);
+  const QualityReport q = expect_valid_output(quads, input, "hand.off", 700);
   EXPECT_LT(q.hausdorff, rounds[0].result.distance);
 }
 
@@ -697,7 +692,7 @@ TEST(CorpusMisfitSplit, KeptOnlyWithFewerFolds) {
   }
   // The output is the run kept.
   EXPECT_EQ(r.untangle_report.nonpositive, split.kept ? split.folded_after : split.folded_before);
-  EXPECT_EQ(q.sj_surface_nonpositive, r.untangle_report.nonpositive);
+  EXPECT_EQ(folded_quads(quads, input), r.untangle_report.nonpositive);
   // The JSON and the progress say the same.
   const auto json = nlohmann::json::parse(run.result.report)["components"][0]["misfit_split"];
   EXPECT_EQ(json["regions"].get<uint32_t>(), split.regions);

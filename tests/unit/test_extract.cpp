@@ -935,6 +935,111 @@ TEST(Untangle, UndoesFoldsAgainstTheSurface) {
 
 namespace {
 
+// A roof z = -1.5 |x| over [-2, 2]^2 (ridge along the y axis), triangulated in steps of 0.25, and
+// a 3 x 3 grid of quads on it, its outer vertices at (-1.5 + i, -1.5 + j) and its inner four
+// moved so that quad 4 (the middle one) bends across the ridge: every corner of every quad has
+// a scaled Jacobian above 0.1 against the surface normal, but quad 4 has a reflex corner
+// against its own (Newell) normal.
+struct RoofCase {
+  TriMesh base;
+  QuadMesh quads;
+};
+RoofCase roof_case() {
+  auto lift = [](double x, double y) { return Vec3{x, y, -1.5 * std::fabs(x)}; };
+  std::vector<Vec3> p;
+  std::vector<Tri> t;
+  constexpr uint32_t n = 16;
+  for (uint32_t j = 0; j <= n; ++j)
+    for (uint32_t i = 0; i <= n; ++i) p.push_back(lift(-2 + 0.25 * i, -2 + 0.25 * j));
+  for (uint32_t j = 0; j < n; ++j)
+    for (uint32_t i = 0; i < n; ++i) {
+      const uint32_t v = j * (n + 1) + i;
+      t.push_back({v, v + 1, v + n + 2});
+      t.push_back({v, v + n + 2, v + n + 1});
+    }
+  RoofCase c{TriMesh(std::move(p), std::move(t)), {}};
+  const std::map<std::pair<int, int>, std::pair<double, double>> inner = {
+      {{1, 1}, {0.06, -0.6}}, {{2, 1}, {0.52, -0.17}}, {{1, 2}, {-0.19, 0.53}}, {{2, 2}, {-0.08, 0.46}}};
+  QuadMesh& q = c.quads;
+  for (int j = 0; j <= 3; ++j)
+    for (int i = 0; i <= 3; ++i) {
+      const auto it = inner.find({i, j});
+      const auto [x, y] = it != inner.end() ? it->second : std::pair(-1.5 + i, -1.5 + j);
+      const uint32_t cell = uint32_t((y + 2) / 0.25) * n + uint32_t((x + 2) / 0.25);
+      q.surface.push_back(project_locally(c.base, 2 * cell, lift(x, y)));
+      q.positions.push_back(position_of(c.base, q.surface.back()));
+    }
+  q.vertex_meta_vertex.assign(16, kInvalid);
+  q.vertex_meta_edge.assign(16, kInvalid);
+  q.placed.assign(16, QuadMesh::Placed::direct);
+  for (uint32_t j = 0; j < 3; ++j)
+    for (uint32_t i = 0; i < 3; ++i) {
+      const uint32_t v = j * 4 + i;
+      q.quads.push_back({v, v + 1, v + 5, v + 4});
+      q.quad_patch.push_back(0);
+    }
+  return c;
+}
+
+}  // namespace
+
+// The repair's measure is the output's validity: a quad bent across a ridge that every corner's
+// surface normal accepts, but with a reflex corner in its own plane, is made convex, by moves
+// along the surface.
+TEST(Untangle, MakesQuadsConvexThatTheSurfaceNormalAccepts) {
+  RoofCase c = roof_case();
+  const PolyMesh reference = component_as_poly(c.base);
+  auto own = [](const QuadMesh& m) {
+    std::vector<double> sj;
+    for (const auto& f : m.quads)
+      sj.push_back(quad_scaled_jacobian(
+          {m.positions[f[0]], m.positions[f[1]], m.positions[f[2]], m.positions[f[3]]}));
+    return sj;
+  };
+  for (std::size_t v = 0; v < c.quads.positions.size(); ++v) {
+    const Vec3& x = c.quads.positions[v];
+    ASSERT_NEAR(x.z, -1.5 * std::fabs(x.x), 1e-12);  // on the surface
+  }
+  const std::vector<double> surface_before = surface_scaled_jacobians(as_poly(c.quads), reference);
+  const std::vector<double> own_before = own(c.quads);
+  // The case: the surface normal sees no quad below the untangler's target; the own normal sees
+  // one, the middle quad, not valid.
+  for (const double s : surface_before) EXPECT_GT(s, 0.1);
+  for (std::size_t f = 0; f < own_before.size(); ++f)
+    EXPECT_EQ(own_before[f] <= kMinValidScaledJacobian, f == 4) << f << ": " << own_before[f];
+  EXPECT_LT(own_before[4], -0.2);
+
+  const QuadMesh start = c.quads;
+  const MetaMesh meta;
+  UntangleOptions uo;
+  uo.edge_length = 1;
+  UntangleReport report, report2;
+  QuadMesh again = c.quads;
+  untangle_quads(c.quads, c.base, c.base, meta, uo, report);
+  untangle_quads(again, c.base, c.base, meta, uo, report2);
+  EXPECT_EQ(report.folded_before, 1u);  // the reflex quad counts as folded
+  EXPECT_EQ(report.folded_after, 0u);
+  EXPECT_EQ(report.nonpositive, 0u);
+  EXPECT_EQ(report.degenerate, 0u);
+  EXPECT_GT(report.moves, 0u);
+  EXPECT_EQ(report.collapsed, 0u);  // moved, not removed
+  ASSERT_EQ(c.quads.quads, start.quads);
+  const std::vector<double> own_after = own(c.quads);
+  const std::vector<double> surface_after = surface_scaled_jacobians(as_poly(c.quads), reference);
+  for (std::size_t f = 0; f < own_after.size(); ++f) {
+    EXPECT_GT(own_after[f], kMinValidScaledJacobian) << f;
+    EXPECT_GT(surface_after[f], kMinValidScaledJacobian) << f;
+  }
+  EXPECT_GT(own_after[4], 0.05);  // convex with a margin, not only just above the threshold
+  for (std::size_t v = 0; v < c.quads.positions.size(); ++v) {
+    EXPECT_LT(norm(position_of(c.base, c.quads.surface[v]) - c.quads.positions[v]), 1e-12);
+    EXPECT_EQ(c.quads.positions[v], again.positions[v]);  // deterministic
+    EXPECT_LE(norm(c.quads.positions[v] - start.positions[v]), uo.reach * uo.edge_length);
+  }
+}
+
+namespace {
+
 // An n x n grid of unit squares in the plane z = 0, vertex (i, j) at index j (n + 1) + i, quad
 // (i, j) at index j n + i with corners (i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1).
 QuadMesh grid_quads(uint32_t n) {
