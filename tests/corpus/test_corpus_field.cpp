@@ -194,11 +194,11 @@ TEST(CorpusFieldLayout, KnotIsCutByTheLoopsOfTwoSeeds) {
   EXPECT_GT(field.quality.sj_min, 0.5);
 }
 
-// Where the traced patches cannot be used (here nefertiti: the map's solve stays inaccurate on
-// them), the component takes VSA's patches with VSA's repairs, as `--segmentation vsa` would, and
+// Where the traced patches cannot be used (here mech-holes-shark: the locked map crowds a thin
+// traced patch to zero area), the component takes VSA's patches with VSA's repairs, as `--segmentation vsa` would, and
 // the report says why.
 TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
-  ISOQUAD_CORPUS_MESH(path, "nefertiti.off");
+  ISOQUAD_CORPUS_MESH(path, "mech-holes-shark.off");
   const ReadResult input = read_mesh(path);
   const LaidOut field = remesh_with(input, "field");
   const ComponentRun& r = field.run.runs[0];
