@@ -116,10 +116,25 @@ Runner add_layout(CLI::App& app) {
           nlohmann::json corners = nlohmann::json::array();
           for (uint32_t k : layout.charts[p].corners)
             corners.push_back(mm.faces[p].start_vertex(k, mm.edges));
+          // Per side (0..3, side 0 from corner 0), its meta-edges and the sum of their targets:
+          // how far the chart's integer size is from the patch's shape.
+          nlohmann::json side_edges = nlohmann::json::array({nlohmann::json::array(),
+                                                             nlohmann::json::array(),
+                                                             nlohmann::json::array(),
+                                                             nlohmann::json::array()});
+          std::array<double, 4> side_target{};
+          const Chart& chart = layout.charts[p];
+          for (uint32_t i = 0; i < mm.faces[p].cycle.size(); ++i) {
+            const uint32_t e = mm.faces[p].cycle[i].edge;
+            side_edges[chart.item_side[i]].push_back(e);
+            side_target[chart.item_side[i]] += layout.target[e];
+          }
           j["charts"].push_back({{"patch", p},
-                                 {"width", layout.charts[p].width},
-                                 {"height", layout.charts[p].height},
-                                 {"corner_meta_vertices", corners}});
+                                 {"width", chart.width},
+                                 {"height", chart.height},
+                                 {"corner_meta_vertices", corners},
+                                 {"side_edges", side_edges},
+                                 {"side_targets", side_target}});
         }
         for (uint32_t e = 0; e < mm.edges.size(); ++e)
           j["meta_edges_detail"].push_back(

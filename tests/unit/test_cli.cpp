@@ -446,6 +446,23 @@ TEST(Cli, LayoutReportsChartsAndLengths) {
   EXPECT_EQ(quads, j["quads"].get<int64_t>());
   EXPECT_NEAR(double(quads), 800, 80);
   EXPECT_EQ(j["meta_edges_detail"].size(), j["meta_edges"].get<size_t>());
+  // Each chart's sides: opposite sides add up to its width and height, and the side targets are
+  // the sums of their meta-edges' targets.
+  for (const auto& c : j["charts"]) {
+    ASSERT_EQ(c["side_edges"].size(), 4u);
+    ASSERT_EQ(c["side_targets"].size(), 4u);
+    for (int s = 0; s < 4; ++s) {
+      ASSERT_FALSE(c["side_edges"][s].empty());
+      int64_t length = 0;
+      double target = 0;
+      for (const auto& e : c["side_edges"][s]) {
+        length += j["meta_edges_detail"][e.get<size_t>()]["length"].get<int64_t>();
+        target += j["meta_edges_detail"][e.get<size_t>()]["target"].get<double>();
+      }
+      EXPECT_EQ(length, c[s % 2 == 0 ? "width" : "height"].get<int64_t>());
+      EXPECT_NEAR(target, c["side_targets"][s].get<double>(), 1e-9);
+    }
+  }
   for (const auto& e : j["meta_edges_detail"]) {
     EXPECT_GE(e["length"].get<int>(), 1);
     EXPECT_GE(e["rotation"].get<int>(), 0);
