@@ -118,10 +118,9 @@ Runner add_layout(CLI::App& app) {
             corners.push_back(mm.faces[p].start_vertex(k, mm.edges));
           // Per side (0..3, side 0 from corner 0), its meta-edges and the sum of their targets:
           // how far the chart's integer size is from the patch's shape.
-          nlohmann::json side_edges = nlohmann::json::array({nlohmann::json::array(),
-                                                             nlohmann::json::array(),
-                                                             nlohmann::json::array(),
-                                                             nlohmann::json::array()});
+          nlohmann::json side_edges =
+              nlohmann::json::array({nlohmann::json::array(), nlohmann::json::array(),
+                                     nlohmann::json::array(), nlohmann::json::array()});
           std::array<double, 4> side_target{};
           const Chart& chart = layout.charts[p];
           for (uint32_t i = 0; i < mm.faces[p].cycle.size(); ++i) {

@@ -45,17 +45,18 @@
 namespace isoquad {
 
 // Where collapses follow (collapse_rounds > 0), a quad counts as folded at a scaled Jacobian
-// (the lower of surface and own normal, as the untangler measures it) at or below this, not only at or below 0: a corner of exactly 180 degrees (a patch
-// corner on a straight crease) reads 0 give or take rounding, +3e-16 here and -1e-16 in
-// `isoquad quality` after the output's scaling, and is degenerate either way. Before (the
-// pipeline's fold rounds), only quads at or below 0: counting these there too cost folded
-// quads on the corpus (cow 2 -> 3 at 1,500 quads and 2 -> 4 at the default size).
+// (the lower of surface and own normal, as the untangler measures it) at or below this, not only at
+// or below 0: a corner of exactly 180 degrees (a patch corner on a straight crease) reads 0 give or
+// take rounding, +3e-16 here and -1e-16 in `isoquad quality` after the output's scaling, and is
+// degenerate either way. Before (the pipeline's fold rounds), only quads at or below 0: counting
+// these there too cost folded quads on the corpus (cow 2 -> 3 at 1,500 quads and 2 -> 4 at the
+// default size).
 constexpr double kFoldedAtOrBelow = 1e-3;
 
 struct UntangleOptions {
-  double target = 0.1;       // quads whose scaled Jacobian is below this are worked on
-  uint32_t max_rounds = 30;  // sweeps over their corners
-  bool slide = true;         // crease and boundary vertices may slide along them
+  double target = 0.1;             // quads whose scaled Jacobian is below this are worked on
+  uint32_t max_rounds = 30;        // sweeps over their corners
+  bool slide = true;               // crease and boundary vertices may slide along them
   bool move_singularities = true;  // meta-vertices off creases and the boundary may move
   double edge_length = 0;          // the target quad edge h (mesh units): the unit of the two below
   double reach = 3;                // no vertex moves farther than this from where the map put it

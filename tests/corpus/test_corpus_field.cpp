@@ -195,8 +195,8 @@ TEST(CorpusFieldLayout, KnotIsCutByTheLoopsOfTwoSeeds) {
 }
 
 // Where the traced patches cannot be used (here mech-holes-shark: the locked map crowds a thin
-// traced patch to zero area), the component takes VSA's patches with VSA's repairs, as `--segmentation vsa` would, and
-// the report says why.
+// traced patch to zero area), the component takes VSA's patches with VSA's repairs, as
+// `--segmentation vsa` would, and the report says why.
 TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
   ISOQUAD_CORPUS_MESH(path, "mech-holes-shark.off");
   const ReadResult input = read_mesh(path);

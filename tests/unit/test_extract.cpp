@@ -958,8 +958,10 @@ RoofCase roof_case() {
       t.push_back({v, v + n + 2, v + n + 1});
     }
   RoofCase c{TriMesh(std::move(p), std::move(t)), {}};
-  const std::map<std::pair<int, int>, std::pair<double, double>> inner = {
-      {{1, 1}, {0.06, -0.6}}, {{2, 1}, {0.52, -0.17}}, {{1, 2}, {-0.19, 0.53}}, {{2, 2}, {-0.08, 0.46}}};
+  const std::map<std::pair<int, int>, std::pair<double, double>> inner = {{{1, 1}, {0.06, -0.6}},
+                                                                          {{2, 1}, {0.52, -0.17}},
+                                                                          {{1, 2}, {-0.19, 0.53}},
+                                                                          {{2, 2}, {-0.08, 0.46}}};
   QuadMesh& q = c.quads;
   for (int j = 0; j <= 3; ++j)
     for (int i = 0; i <= 3; ++i) {
