@@ -152,6 +152,18 @@ double mesh_diagonal(const PreparedMesh& prep) {
 
 // A run's quads, their two-sided distance to `surface` (sampled as `isoquad quality` does) over
 // `diagonal`, and its folded quads.
+// The quads with scaled Jacobian at most kMinValidScaledJacobian against their own normal: the
+// output's validity as `isoquad quality` counts it.
+uint32_t invalid_quads(const QuadMesh& quads) {
+  uint32_t n = 0;
+  for (const auto& q : quads.quads) {
+    const std::array<Vec3, 4> at{quads.positions[q[0]], quads.positions[q[1]],
+                                 quads.positions[q[2]], quads.positions[q[3]]};
+    n += quad_scaled_jacobian(at) <= kMinValidScaledJacobian;
+  }
+  return n;
+}
+
 SizeRound measure_run(const ComponentRun& run, const AabbTree& surface, double diagonal) {
   const QualityOptions measure;
   const double d =
@@ -864,6 +876,17 @@ ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const Pipeline
       run_stages(h, stages, {}, nullptr, diagonal, run);
       split_tips(h, stages, diagonal, run);
       refine_far(stages, diagonal, run);
+      // The promise is a valid output: traced quads that the untangler left folded or with a
+      // straight corner are not kept while VSA's patches may map this component without them.
+      const uint32_t invalid = run.field_used ? invalid_quads(run.quads) : 0;
+      if (invalid > 0) {
+        run.field_log.failure = fmt::format(
+            "{} of the traced layout's {} quads have scaled Jacobian <= {} against their own "
+            "normal",
+            invalid, run.quads.quads.size(), kMinValidScaledJacobian);
+        stages.field_layout = false;
+        continue;
+      }
       return run;
     } catch (const Error& e) {
       // A traced layout that a later stage cannot use: this component takes VSA's patches.

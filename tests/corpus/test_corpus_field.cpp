@@ -213,6 +213,33 @@ TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
   EXPECT_EQ(field.run.result.quads.positions, vsa.run.result.quads.positions);
 }
 
+// The hand at 700 quads: its traced layout mapped, but the untangler left quads at its fingers
+// with scaled Jacobian <= 0.001 against their own normal (6 of 1,765 when measured). Field mode
+// keeps the promise of a valid output all the same: a component whose traced quads are not all
+// valid takes VSA's patches, and the report says why.
+TEST(CorpusFieldLayout, TracedQuadsThatAreNotValidAreNotKept) {
+  ISOQUAD_CORPUS_MESH(path, "hand.off");
+  const ReadResult input = read_mesh(path);
+  RemeshOptions o;
+  o.quads = 700;
+  o.segmentation = "field";
+  const RemeshRun run = remesh_run(input.mesh, o, input.unshared_vertices);
+  ASSERT_EQ(run.runs.size(), 1u);
+  const ComponentRun& r = run.runs[0];
+  const QualityReport q = measure_quality(run.result.quads, &input.mesh);
+  EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  EXPECT_EQ(q.sj_invalid, 0u) << "scaled Jacobian <= 0.001 against the own normal";
+  EXPECT_NEAR(double(run.result.quads.num_faces()), 700, 70);
+  const auto report = nlohmann::json::parse(run.result.report);
+  EXPECT_EQ(report["components"][0]["layout_source"], r.field_used ? "field" : "vsa");
+  if (!r.field_used) {
+    EXPECT_FALSE(r.field_log.failure.empty());
+    EXPECT_EQ(report["components"][0]["field"]["fallback_reason"], r.field_log.failure);
+  }
+}
+
 // bunny00: where a stem met its track obliquely or a singularity's arm was merged, the traces'
 // rules miscount a patch's corners (nine patches of five or three); its angles, in the field's
 // quarters, read four, and the layout takes them as a preference. With the rules alone the
