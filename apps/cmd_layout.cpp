@@ -80,6 +80,7 @@ Runner add_layout(CLI::App& app) {
       if (field) {
         lo.given_corners = &fs.corners;
         lo.preferred_corners = &fs.preferred;
+        lo.field_quarter_turns = &fs.quarter_turns;
       }
       lo.corners = a->corners == "local" ? CornerMode::local : CornerMode::global;
       lo.length_solver = a->ilp == "flow" ? LengthSolver::flow : LengthSolver::cbc;

@@ -543,6 +543,12 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   PatchCorners pc = patch_corners(seg.refined.mesh, seg.labels, seg.meta, h, turns, repaired,
                                   seg.feature, cf.index4);
   out.corners = std::move(pc.corners);
+  out.quarter_turns.resize(seg.meta.vertices.size(), 0);
+  for (uint32_t mv = 0; mv < seg.meta.vertices.size(); ++mv) {
+    const uint32_t v = seg.meta.vertices[mv].vertex;
+    if (v >= cf.index4.size()) continue;  // a vertex the embedding made: regular
+    out.quarter_turns[mv] = (seg.refined.mesh.is_boundary_vertex(v) ? 2 : 4) - cf.index4[v];
+  }
   out.preferred = std::move(pc.by_angles);
   log.angle_corner_patches = uint32_t(std::count(out.preferred.begin(), out.preferred.end(), 1));
   log.free_corner_patches =

@@ -41,6 +41,8 @@ struct FieldSegmentation {
   // Per patch, 1 where its corners were read from its angles, not from the traces' rules: a
   // preference for layout/ (LayoutOptions::preferred_corners).
   std::vector<char> preferred;
+  // Per meta-vertex, the quads the field puts there (LayoutOptions::field_quarter_turns).
+  std::vector<int> quarter_turns;
 };
 
 // The field-aligned patches of `mesh` for a target quad edge h (mesh units). Where a trace finds

@@ -53,11 +53,24 @@ P2 arm(const CrossField& cf, uint32_t f, int k) {
   return {std::cos(a), std::sin(a)};
 }
 
-// A ray that leaves vertex v into face f along arm k.
+// A ray that leaves vertex v into face f along arm k; where the arm lies in the gap between two
+// faces' copies of the field (see rays_at), it leaves along `direction` (f's chart) through f and
+// follows arm k from the next face on.
 struct Ray {
   uint32_t vertex, face;
   int arm;
+  bool along = false;
+  P2 direction{};
 };
+
+P2 ray_direction(const CrossField& cf, const Ray& r) {
+  return r.along ? r.direction : arm(cf, r.face, r.arm);
+}
+
+Vec3 ray_direction3(const CrossField& cf, const Ray& r) {
+  if (!r.along) return cf.frames.direction(r.face, cf.angle[r.face] + r.arm * kPi / 2);
+  return normalized(r.direction.x * cf.frames.x[r.face] + r.direction.y * cf.frames.y[r.face]);
+}
 
 bool is_constraint(const CrossField& cf, const TriMesh& m, uint32_t h) {
   return m.twin(h) == kInvalid || cf.feature[m.edge(h)];
@@ -66,6 +79,8 @@ bool is_constraint(const CrossField& cf, const TriMesh& m, uint32_t h) {
 // The arms of the field inside the corner of each face around v: for face f whose corner at v is
 // between edge vectors a (to the next corner) and b (to the previous one), the arms at an angle
 // in [0, beta) from a. Arms along a constraint edge are not rays (they run along a track).
+// Used on the feature and boundary nodes; interior nodes count their rays as crossings
+// (interior_rays).
 std::vector<Ray> rays_at(const CrossField& cf, const Charts& ch, const TriMesh& m, uint32_t v) {
   constexpr double kAlong = 1e-6;
   std::vector<Ray> rays;
@@ -94,37 +109,173 @@ std::vector<Ray> rays_at(const CrossField& cf, const Charts& ch, const TriMesh& 
   return rays;
 }
 
-// Near a singularity the field turns fast, and an arm close to the edge between two faces can
-// show in both sectors at clearly different angles: where v has more rays than its index allows,
-// the two closest around v (by the angle from the fan's first edge) are merged, the first kept.
-void merge_extra_rays(const CrossField& cf, const Charts& ch, const TriMesh& m, uint32_t v,
-                      int expected, std::vector<Ray>& rays) {
-  if (expected <= 0 || int(rays.size()) <= expected) return;
-  // The angle of each ray around v, the corner angles of the faces before its own added.
-  std::vector<double> around;
+// The rays of an interior node v, counted as crossings. Around v's fan (cone angle Theta, angle
+// phi from the first face's first edge) follow one arm of the field continuously: psi_i, its
+// angle in face i, unwrapped, the arm matched across each edge by the period jump. G = psi - phi
+// decreases inside a face and jumps by the field's turn across an edge (|jump| <= 45 degrees);
+// a ray is where G crosses a level -j pi/2 going down. Over the loop G falls by (4 - 4I) pi/2,
+// so the net count of crossings is 4 - 4I, but a jump up across a level makes a second copy of
+// the previous ray, and a jump down across a level hides a ray between two faces. So: every
+// crossing is an event (down inside a face, up or down at an edge), events of one level (levels j
+// and j + N at phi + Theta being one, N = 4 - 4I) cancel in down-up pairs, and each level keeps
+// the down crossing farthest from its level's up crossings. A hidden ray leaves along the mean
+// of its two faces' copies, in the face that mean lies in.
+std::vector<Ray> interior_rays(const CrossField& cf, const Charts& ch, const TriMesh& m, uint32_t v,
+                               int expected) {
+  struct FanFace {
+    uint32_t f = 0, in = 0;  // the face and its halfedge into v (shared with the next face)
+    P2 a;                    // the edge vector of the fan's earlier edge
+    double beta = 0, phi = 0, psi = 0;
+    int arm = 0;  // the followed arm's index in f
+  };
+  std::vector<FanFace> fan;
+  double theta = 0;
+  m.for_each_outgoing(v, [&](uint32_t h) {
+    const uint32_t f = TriMesh::face_of(h), i = h % 3;
+    const auto& c = ch.corner[f];
+    FanFace ff;
+    ff.f = f;
+    ff.in = TriMesh::prev(h);
+    ff.a = c[(i + 1) % 3] - c[i];
+    const P2 b = c[(i + 2) % 3] - c[i];
+    ff.beta = std::atan2(cross(ff.a, b), dot(ff.a, b));
+    ff.phi = theta;
+    theta += ff.beta;
+    fan.push_back(ff);
+  });
+  const std::size_t n = fan.size();
+  if (n < 3 || expected <= 0) return {};
+  auto arm_angle = [&](const FanFace& ff, int k) {
+    const P2 d = arm(cf, ff.f, k);
+    return ff.phi + std::atan2(cross(ff.a, d), dot(ff.a, d));
+  };
+  fan[0].arm = 0;
+  fan[0].psi = arm_angle(fan[0], 0);
+  // fan[n] is face 0 again, one turn on.
+  FanFace wrap = fan[0];
+  wrap.phi = theta;
+  for (std::size_t i = 1; i <= n; ++i) {
+    FanFace& cur = i < n ? fan[i] : wrap;
+    const FanFace& prev = fan[i - 1];
+    cur.arm = ((prev.arm + cf.period_jump[prev.in]) % 4 + 4) % 4;
+    double psi = arm_angle(cur, cur.arm);
+    psi += 2 * kPi * std::round((prev.psi - psi) / (2 * kPi));
+    cur.psi = psi;
+  }
+  struct Event {
+    int64_t level;  // j, normalized to its class
+    double at;      // phi, shifted with the level
+    int sign;       // +1 down (a ray), -1 up
+    Ray ray;
+  };
+  std::vector<Event> events;
+  const int64_t big = int64_t(expected);
+  auto add = [&](int64_t j, double phi, int sign, const Ray& r) {
+    // Level j at phi is level j - k N at phi - k Theta: normalize to j mod N.
+    const int64_t k = (j >= 0 ? j : j - big + 1) / big;
+    events.push_back({j - k * big, phi - double(k) * theta, sign, r});
+  };
+  auto lo_level = [](double g) { return int64_t(std::ceil(-g / (kPi / 2) - 1e-12)); };
+  for (std::size_t i = 0; i < n; ++i) {
+    const FanFace& ff = fan[i];
+    // Inside face i: psi + j pi/2 in [phi_i, phi_i + beta_i).
+    const double g_hi = ff.psi - ff.phi, g_lo = ff.psi - ff.phi - ff.beta;  // G falls g_hi -> g_lo
+    for (int64_t j = lo_level(g_hi); - double(j) * kPi / 2 > g_lo; ++j) {
+      const int k = int(((ff.arm + j) % 4 + 4) % 4);
+      add(j, ff.psi + double(j) * kPi / 2, +1, Ray{v, ff.f, k});
+    }
+    // The edge into face i + 1: G jumps from g_lo to next.psi - phi_{i+1}.
+    const FanFace& next = i + 1 < n ? fan[i + 1] : wrap;
+    const double g_next = next.psi - next.phi;
+    const double lo = std::min(g_lo, g_next), hi = std::max(g_lo, g_next);
+    for (int64_t j = lo_level(hi); - double(j) * kPi / 2 > lo; ++j) {
+      if (g_next > g_lo) {  // up: cancels a copy
+        add(j, next.phi, -1, Ray{v, ff.f, 0});
+        continue;
+      }
+      // Down across the edge: the ray between the two faces, along the mean of its copies.
+      const double in_f = ff.psi + double(j) * kPi / 2, in_g = next.psi + double(j) * kPi / 2;
+      const double mid = 0.5 * (in_f + in_g);
+      auto turned = [](P2 e, double t) {
+        const double l = length(e), c = std::cos(t), s = std::sin(t);
+        return P2{(c * e.x - s * e.y) / l, (s * e.x + c * e.y) / l};
+      };
+      const FanFace& g = i + 1 < n ? fan[i + 1] : fan[0];
+      Ray r;
+      if (mid < next.phi) {
+        const double t = std::max(mid - ff.phi, 0.5 * ff.beta);
+        r = Ray{v, ff.f, int(((ff.arm + j) % 4 + 4) % 4), true, turned(ff.a, t)};
+      } else {
+        const double t = std::min(std::max(mid - next.phi, 1e-3), 0.5 * g.beta);
+        r = Ray{v, g.f, int(((next.arm + j) % 4 + 4) % 4), true, turned(g.a, t)};
+      }
+      add(j, next.phi, +1, r);
+    }
+  }
+  // Per level: keep the down crossing farthest from the level's up crossings (all of them, also
+  // one period on either side).
+  std::vector<Ray> rays;
+  std::vector<double> where;
+  for (int64_t c = 0; c < big; ++c) {
+    std::vector<double> ups;
+    for (const Event& e : events)
+      if (e.level == c && e.sign < 0)
+        for (int s = -1; s <= 1; ++s) ups.push_back(e.at + s * theta);
+    int down = 0, up = 0;
+    const Event* best = nullptr;
+    double best_gap = -1;
+    for (const Event& e : events) {
+      if (e.level != c) continue;
+      (e.sign > 0 ? down : up) += 1;
+      if (e.sign < 0) continue;
+      double gap = INFINITY;
+      for (double u : ups) gap = std::min(gap, std::abs(u - e.at));
+      if (gap > best_gap + 1e-12) best_gap = gap, best = &e;
+    }
+    if (best && down - up == 1) {
+      rays.push_back(best->ray);
+      where.push_back(std::fmod(std::fmod(best->at, theta) + theta, theta));
+    }
+  }
+  // Around v in order.
+  std::vector<std::size_t> order(rays.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return where[x] < where[y]; });
+  std::vector<Ray> out;
+  for (std::size_t i : order) out.push_back(rays[i]);
+  return out;
+}
+
+// Sorts v's rays around it, by their angle from the fan's first edge.
+void sort_rays_around(const CrossField& cf, const Charts& ch, const TriMesh& m, uint32_t v,
+                      std::vector<Ray>& rays) {
+  // The angle of each ray around v: the corner angles of the faces before its own, plus its
+  // angle in its own corner. The rays sorted by it.
+  std::vector<std::pair<uint32_t, double>> face_offset;  // face, corner angles before it
   double offset = 0;
-  std::size_t next = 0;
   m.for_each_outgoing(v, [&](uint32_t h) {
     const uint32_t f = TriMesh::face_of(h), i = h % 3;
     const auto& c = ch.corner[f];
     const P2 a = c[(i + 1) % 3] - c[i], b = c[(i + 2) % 3] - c[i];
-    for (; next < rays.size() && rays[next].face == f; ++next) {
-      const P2 d = arm(cf, f, rays[next].arm);
-      around.push_back(offset + std::atan2(cross(a, d), dot(a, d)));
-    }
+    face_offset.push_back({f, offset});
     offset += std::atan2(cross(a, b), dot(a, b));
   });
-  while (int(rays.size()) > expected) {
-    std::size_t best = 0;
-    double gap = INFINITY;
-    for (std::size_t j = 0; j < rays.size(); ++j) {
-      const std::size_t k = (j + 1) % rays.size();
-      const double g = k > j ? around[k] - around[j] : around[k] + offset - around[j];
-      if (g < gap) gap = g, best = k;
-    }
-    rays.erase(rays.begin() + std::ptrdiff_t(best));
-    around.erase(around.begin() + std::ptrdiff_t(best));
+  std::vector<std::pair<double, Ray>> sorted;
+  for (const Ray& r : rays) {
+    const uint32_t f = r.face;
+    const auto it = std::find_if(face_offset.begin(), face_offset.end(),
+                                 [&](const auto& fo) { return fo.first == f; });
+    const Tri& tri = m.face(f);
+    const uint32_t i = uint32_t(std::find(tri.begin(), tri.end(), v) - tri.begin());
+    const auto& c = ch.corner[f];
+    const P2 a = c[(i + 1) % 3] - c[i], d = ray_direction(cf, r);
+    sorted.push_back({it->second + std::atan2(cross(a, d), dot(a, d)), r});
   }
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  rays.clear();
+  for (const auto& [angle, r] : sorted) rays.push_back(r);
 }
 
 // Whether v is a node of the constraint curves: where they end, branch or turn by more than 45
@@ -202,6 +353,8 @@ struct Tracer {
     st.face = r.face;
     st.point = charts.corner[r.face][i];
     st.arm = r.arm;
+    st.straight = r.along;
+    st.direction = r.direction;
     state.push_back(st);
     return uint32_t(state.size() - 1);
   }
@@ -525,7 +678,7 @@ std::vector<Connection> find_connections(const CrossField& cf, const std::vector
   std::vector<Vec3> ray_dir(rays.size());
   for (uint32_t r = 0; r < rays.size(); ++r) {
     node_rays[ray_node[r]].push_back(r);
-    ray_dir[r] = cf.frames.direction(rays[r].face, cf.angle[rays[r].face] + rays[r].arm * kPi / 2);
+    ray_dir[r] = ray_direction3(cf, rays[r]);
   }
   const double from_behind = std::cos(kPi / 9), head_on = std::cos(kPi / 12);
   std::vector<Connection> found;
@@ -682,7 +835,7 @@ struct Strips {
 // The traces that found no end, and those that run closer than `width` beside a parallel track
 // (within 20 degrees) along at least half of their length: another trace, a feature, the
 // boundary, or the trace itself further on (a spiral).
-Strips strip_traces(const Tracer& tracer, const TraceResult& result, double width) {
+Strips strip_traces(const Tracer& tracer, const TraceResult& result, double width, double gap) {
   const TriMesh& m = tracer.m;
   struct Piece {
     Vec3 p, q;
@@ -769,6 +922,47 @@ Strips strip_traces(const Tracer& tracer, const TraceResult& result, double widt
     }
     if (beside >= 0.5 * t.length) ranked.push_back({beside / t.length, id});
   }
+  // Two points of one track closer than `gap`: a trace that stops there, beside another trace's
+  // end or a node. The meta-edge between them is shorter than a quad, so the integer lengths
+  // stretch it to one, or cannot: a strip that closes around a tube a fraction of a quad away
+  // from where it started forces that fraction to zero. Both ends are candidates, the one that
+  // stopped first ranked first; deleting one frees the traces that stopped on it.
+  if (gap > 0) {
+    std::vector<Vec3> end(result.traces.size());
+    for (uint32_t id = 0; id < result.traces.size(); ++id)
+      if (!result.traces[id].points.empty())
+        end[id] = position_on(m, result.traces[id].points.back());
+    auto on_curve = [](TraceEnd e) { return e == TraceEnd::boundary || e == TraceEnd::feature; };
+    std::vector<double> nearest(result.traces.size(), INFINITY);
+    auto consider = [&](uint32_t id, uint32_t other, double d) {
+      if (d >= nearest[id]) return;
+      nearest[id] = d;
+      if (other != kInvalid &&
+          std::find(out.beside[id].begin(), out.beside[id].end(), other) == out.beside[id].end())
+        out.beside[id].push_back(other);
+    };
+    for (uint32_t a = 0; a < result.traces.size(); ++a) {
+      const Trace& ta = result.traces[a];
+      if (ta.end != TraceEnd::track && !on_curve(ta.end)) continue;
+      for (uint32_t b = 0; b < result.traces.size(); ++b) {
+        const Trace& tb = result.traces[b];
+        const bool same_track =
+            b != a && ((ta.end == TraceEnd::track && tb.end == TraceEnd::track &&
+                        ta.end_trace == tb.end_trace) ||
+                       (on_curve(ta.end) && on_curve(tb.end)));
+        if (same_track) consider(a, b, norm(end[a] - end[b]));
+      }
+      // The nodes, the track's own source among them (its far end is a trace end or a node).
+      for (uint32_t v : result.nodes)
+        if (v != ta.source) consider(a, kInvalid, norm(end[a] - m.position(v)));
+    }
+    for (uint32_t id = 0; id < result.traces.size(); ++id) {
+      if (!(nearest[id] < gap)) continue;
+      const bool listed =
+          std::any_of(ranked.begin(), ranked.end(), [&](const auto& r) { return r.second == id; });
+      if (!listed) ranked.push_back({1 + (1 - nearest[id] / gap) / 2, id});
+    }
+  }
   std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
     return a.first > b.first || (a.first == b.first && a.second < b.second);
   });
@@ -810,8 +1004,13 @@ TraceResult trace_separatrices(const CrossField& cf, const TraceOptions& options
     const bool node =
         on_constraint ? singular[v] || is_constraint_node(cf, m, v) : singular[v] || seed[v];
     if (!node) continue;
-    std::vector<Ray> at = rays_at(cf, charts, m, v);
-    if (!on_constraint) merge_extra_rays(cf, charts, m, v, 4 - cf.index4[v], at);
+    std::vector<Ray> at;
+    if (!on_constraint && 4 - cf.index4[v] > 0) {
+      at = interior_rays(cf, charts, m, v, 4 - cf.index4[v]);
+    } else {
+      at = rays_at(cf, charts, m, v);
+      sort_rays_around(cf, charts, m, v, at);
+    }
     if (!on_constraint && at.size() != std::size_t(4 - cf.index4[v])) ++mismatches;
     if (at.empty()) continue;
     for (const Ray& r : at) {
@@ -844,7 +1043,8 @@ TraceResult trace_separatrices(const CrossField& cf, const TraceOptions& options
     tracer.result.rounds = round + 1;
     result = std::move(tracer.result);
     if (round + 1 >= options.rounds || options.strip <= 0 || options.edge_length <= 0) break;
-    const Strips strips = strip_traces(tracer, result, options.strip * options.edge_length);
+    const Strips strips = strip_traces(tracer, result, options.strip * options.edge_length,
+                                       options.gap * options.edge_length);
     // Delete where no two neighbouring rays of a node end up deleted (a sector of three quarter
     // turns has no place in a quad layout); traces that bound a strip together lose one.
     bool any = false;

@@ -26,6 +26,12 @@ struct TraceOptions {
   // end, is deleted and the graph traced again without it (§3 rule 4, §5), for up to `rounds`
   // rounds: it would bound a strip thinner than a quad.
   double strip = 0.5;
+  // A trace that stops on a track, a feature or the boundary closer than gap * h to another
+  // point of it (another trace's end, a node) is deleted the same way: the meta-edge between
+  // them would be shorter than half a quad, which the integer lengths stretch to one, more than
+  // twice its length (more quads than asked for), or cannot (a strip closing around a tube a
+  // fraction of a quad off; layout/ slides a corner over such an edge).
+  double gap = 0.5;
   uint32_t rounds = 6;
   // Regular interior vertices that emit the field's four rays as well (FIELD_LAYOUT.md §4): in
   // a patch no trace makes a disk (a handle, a tube), their traces close loops around it or

@@ -36,6 +36,15 @@ int regular_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, uint32_t mv
   return std::clamp(int(std::lround(theta / (kPi / 2))), 1, 3);
 }
 
+int target_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, const LayoutOptions& o,
+                         uint32_t mv) {
+  const bool boundary = meta.vertices[mv].on_boundary;
+  const std::vector<int>* field = o.field_quarter_turns;
+  if (field && mv < field->size() && (*field)[mv] > 0)
+    return std::clamp((*field)[mv], boundary ? 1 : 3, boundary ? 4 : 6);
+  return regular_quarter_turns(mesh, meta, mv);
+}
+
 std::vector<std::vector<CornerCandidate>> corner_candidates(
     const TriMesh& mesh, const FaceData<uint32_t>& labels, const MetaMesh& meta, double beta,
     uint32_t keep, double unit, double flat_corner, double flat_crease_corner) {
@@ -136,7 +145,7 @@ MilpResult corner_ilp(const TriMesh& mesh, const MetaMesh& meta,
     }
   }
   for (uint32_t v = 0; v < meta.vertices.size(); ++v) {
-    const double tau = regular_quarter_turns(mesh, meta, v);
+    const double tau = target_quarter_turns(mesh, meta, o, v);
     const bool boundary = meta.vertices[v].on_boundary;
     const uint32_t d = lp.add_column(o.valence_weight, 0, MilpProblem::kInf, false);
     MilpProblem::Row above = a[v], below = a[v];  // d >= |a - tau|

@@ -57,5 +57,10 @@ std::vector<int> quarter_turns(const MetaMesh& meta,
 
 // The regular value of a_v: 4 inside, the mesh angle in quarter turns (1..3) on the boundary.
 int regular_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, uint32_t mv);
+// The quarter turns the corner program aims at meta-vertex mv: the field's
+// (LayoutOptions::field_quarter_turns) where it is given, else regular_quarter_turns; within
+// the program's valence bounds (3..6 inside, 1..4 on the boundary).
+int target_quarter_turns(const TriMesh& mesh, const MetaMesh& meta, const LayoutOptions& o,
+                         uint32_t mv);
 
 }  // namespace isoquad

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <set>
@@ -93,6 +95,33 @@ bool greedy_feasible(const MetaMesh& meta, const std::vector<std::vector<CornerC
   return true;
 }
 
+// Patch p's corners `items` with one of them moved to the neighbouring meta-vertex of the cycle
+// over a meta-edge shorter than `unit` (its geodesic length), each at a price that grows with
+// the length it moves over. The corners stay distinct and in their cyclic order.
+std::vector<CornerCandidate> slid_corners(const MetaMesh& meta, uint32_t p,
+                                          const std::array<uint32_t, 4>& items, double unit) {
+  std::vector<CornerCandidate> out;
+  const auto& cycle = meta.faces[p].cycle;
+  const uint32_t m = uint32_t(cycle.size());
+  if (m <= 4 || !(unit > 0)) return out;
+  for (int k = 0; k < 4; ++k)
+    for (const int step : {-1, 1}) {
+      const uint32_t from = items[k];
+      const uint32_t to = uint32_t((int64_t(from) + step + m) % m);
+      // The edge passed over: item `from`'s forward, item `to`'s backward.
+      const uint32_t edge = cycle[step > 0 ? from : to].edge;
+      const double length = meta.edges[edge].geodesic / unit;
+      if (!(length < 1)) continue;
+      if (std::find(items.begin(), items.end(), to) != items.end()) continue;
+      std::array<uint32_t, 4> moved = items;
+      moved[k] = to;
+      std::sort(moved.begin(), moved.end());
+      // Same cyclic order: the moved corner keeps its neighbours (it passed none).
+      out.push_back({moved, kPreferredCornersPenalty * (1 + length)});
+    }
+  return out;
+}
+
 // Corners whose side equations admit positive lengths: the plain choice if it is feasible, else
 // the feasibility-aware ILP over the best candidates, then over many more. Empty if none is
 // found; `zero` then holds the forced-zero meta-edges of the plain choice.
@@ -100,47 +129,68 @@ std::optional<Feasible> feasible_corners(const TriMesh& mesh, const FaceData<uin
                                          const MetaMesh& meta, const LayoutOptions& o, double unit,
                                          LayoutReport& report, std::vector<uint32_t>& zero) {
   if (o.given_corners) {
-    Feasible f;
     const auto& given = *o.given_corners;
     const std::vector<char>* preferred = o.preferred_corners;
-    const bool choose =
-        std::find(given.begin(), given.end(), kFreeCorners) != given.end() ||
-        (preferred && std::find(preferred->begin(), preferred->end(), 1) != preferred->end());
-    if (choose) {
-      // The free patches choose among their candidates, the preferred ones too at a price, the
-      // others keep what they were given,
-      // in one exact corner ILP that also asks for positive lengths.
-      auto cands = corner_candidates(mesh, labels, meta, o.angle_weight, 4 * o.candidates_per_patch,
-                                     unit, o.flat_corner_penalty, o.flat_crease_corner_penalty);
-      for (uint32_t p = 0; p < given.size(); ++p) {
-        if (given[p] == kFreeCorners) continue;
-        if (!preferred || !(*preferred)[p]) {
-          cands[p] = {CornerCandidate{given[p], 0.0}};
-          continue;
+    // slide: each given corner may also move to a neighbouring meta-vertex of its patch over a
+    // meta-edge shorter than a quad (one end of a trace that stopped a fraction of a quad from a
+    // node or another end): an integer layout cannot keep such an edge, and where a strip closes
+    // around a tube the side equations force it to length 0.
+    auto attempt = [&](bool slide) -> std::optional<Feasible> {
+      Feasible f;
+      const bool choose =
+          slide || std::find(given.begin(), given.end(), kFreeCorners) != given.end() ||
+          (preferred && std::find(preferred->begin(), preferred->end(), 1) != preferred->end());
+      if (choose) {
+        // The free patches choose among their candidates, the preferred ones too at a price, the
+        // others keep what they were given (or slide it, at a price), in one exact corner ILP
+        // that also asks for positive lengths.
+        auto cands =
+            corner_candidates(mesh, labels, meta, o.angle_weight, 4 * o.candidates_per_patch, unit,
+                              o.flat_corner_penalty, o.flat_crease_corner_penalty);
+        for (uint32_t p = 0; p < given.size(); ++p) {
+          if (given[p] == kFreeCorners) continue;
+          std::vector<CornerCandidate> soft{CornerCandidate{given[p], 0.0}};
+          if (preferred && (*preferred)[p])
+            for (const CornerCandidate& c : cands[p])
+              if (c.items != given[p]) soft.push_back({c.items, c.cost + kPreferredCornersPenalty});
+          if (slide)
+            for (const CornerCandidate& c : slid_corners(meta, p, given[p], unit))
+              if (std::none_of(soft.begin(), soft.end(),
+                               [&](const CornerCandidate& s) { return s.items == c.items; }))
+                soft.push_back(c);
+          cands[p] = std::move(soft);
         }
-        std::vector<CornerCandidate> soft{CornerCandidate{given[p], 0.0}};
-        for (const CornerCandidate& c : cands[p])
-          if (c.items != given[p]) soft.push_back({c.items, c.cost + kPreferredCornersPenalty});
-        cands[p] = std::move(soft);
+        try {
+          f.corners = choose_corners(mesh, meta, cands, o, true);
+        } catch (const Error& e) {
+          if (e.code() != "E401") throw;
+          return std::nullopt;
+        }
+        ++report.corner_rounds;
+        report.corner_seconds += f.corners.seconds;
+      } else {
+        f.corners.corners = given;
+        f.corners.chosen.assign(meta.faces.size(), 0);
       }
-      try {
-        f.corners = choose_corners(mesh, meta, cands, o, true);
-      } catch (const Error& e) {
-        if (e.code() != "E401") throw;
-        return std::nullopt;
-      }
-      ++report.corner_rounds;
-      report.corner_seconds += f.corners.seconds;
-    } else {
-      f.corners.corners = given;
-      f.corners.chosen.assign(meta.faces.size(), 0);
+      f.corners.quarter_turns = quarter_turns(meta, f.corners.corners);
+      f.sides = item_sides(meta, f.corners.corners);
+      f.rows = side_equations(meta, f.sides);
+      const Feasibility test = check_feasibility(uint32_t(meta.edges.size()), f.rows);
+      report.corner_seconds += test.seconds;
+      if (!test.feasible) return std::nullopt;
+      return f;
+    };
+    // No insertion: it would renumber the cycles the given corners index.
+    if (auto f = attempt(false)) return f;
+    auto f = attempt(true);
+    if (f) {
+      uint32_t moved = 0;
+      for (uint32_t p = 0; p < given.size(); ++p)
+        moved += given[p] != kFreeCorners && f->corners.corners[p] != given[p] &&
+                 !(preferred && (*preferred)[p]);
+      report.repairs.push_back(fmt::format(
+          "corners of {} traced patches slid over meta-edges shorter than a quad", moved));
     }
-    f.corners.quarter_turns = quarter_turns(meta, f.corners.corners);
-    f.sides = item_sides(meta, f.corners.corners);
-    f.rows = side_equations(meta, f.sides);
-    const Feasibility test = check_feasibility(uint32_t(meta.edges.size()), f.rows);
-    report.corner_seconds += test.seconds;
-    if (!test.feasible) return std::nullopt;  // no insertion either: it would renumber the cycles
     return f;
   }
   for (const uint32_t keep :
@@ -225,7 +275,7 @@ void improve_corners(const TriMesh& mesh, const FaceData<uint32_t>& labels, cons
     return INFINITY;
   };
   std::vector<int> tau(meta.vertices.size());
-  for (uint32_t v = 0; v < tau.size(); ++v) tau[v] = regular_quarter_turns(mesh, meta, v);
+  for (uint32_t v = 0; v < tau.size(); ++v) tau[v] = target_quarter_turns(mesh, meta, o, v);
   auto total = [&](const std::vector<std::array<uint32_t, 4>>& corners, double lp) -> double {
     double t = lp;
     for (uint32_t p = 0; p < np; ++p) t += cost_of(p, corners[p]);

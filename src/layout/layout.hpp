@@ -95,6 +95,13 @@ struct LayoutOptions {
   // may give it another of its candidates, at kPreferredCornersPenalty more than their own cost
   // (the field-aligned layout's corners read from angles rather than from the traces' rules).
   const std::vector<char>* preferred_corners = nullptr;
+  // Per meta-vertex, the quarter turns (quads) the cross field puts there: 4 - 4I inside (5 at a
+  // -1/4 singularity, 3 at a +1/4 one), 2 - 4I on the boundary. The corner program's valence
+  // term measures from these instead of from regular valences, so that a free patch's corners
+  // keep the field's singularities where the field put them rather than trading one for a
+  // corner the geometry does not have. 0 (or past the end, for meta-vertices the layout
+  // inserts): regular.
+  const std::vector<int>* field_quarter_turns = nullptr;
 };
 
 // What leaving a patch's preferred corners costs in the corner ILP: a fifth of a quarter turn of

@@ -216,6 +216,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
             run.seg = std::move(fs.seg);
             run.field_corners = std::move(fs.corners);
             run.field_preferred = std::move(fs.preferred);
+            run.field_quarter_turns = std::move(fs.quarter_turns);
             run.field_used = true;
             return;
           }
@@ -250,6 +251,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     run.layout_report = {};
     lo.given_corners = run.field_used && !run.quad_split ? &run.field_corners : nullptr;
     lo.preferred_corners = lo.given_corners ? &run.field_preferred : nullptr;
+    lo.field_quarter_turns = lo.given_corners ? &run.field_quarter_turns : nullptr;
     run.layout = solve_layout(run.seg.refined.mesh, run.seg.labels, run.seg.feature, run.seg.meta,
                               lo, run.layout_report);
   };
@@ -876,14 +878,16 @@ ComponentRun run_sized_once(const PreparedMesh& prep, uint32_t c, const Pipeline
       run_stages(h, stages, {}, nullptr, diagonal, run);
       split_tips(h, stages, diagonal, run);
       refine_far(stages, diagonal, run);
-      // The promise is a valid output: traced quads that the untangler left folded or with a
-      // straight corner are not kept while VSA's patches may map this component without them.
+      // The promise is a valid output: traced quads that the untangler left folded (against
+      // their own normal or the surface's) or with a straight corner are not kept while VSA's
+      // patches may map this component without them.
       const uint32_t invalid = run.field_used ? invalid_quads(run.quads) : 0;
-      if (invalid > 0) {
+      const uint32_t folded = run.field_used ? run.untangle_report.nonpositive : 0;
+      if (invalid > 0 || folded > 0) {
         run.field_log.failure = fmt::format(
-            "{} of the traced layout's {} quads have scaled Jacobian <= {} against their own "
-            "normal",
-            invalid, run.quads.quads.size(), kMinValidScaledJacobian);
+            "of the traced layout's {} quads, {} have scaled Jacobian <= {} against their own "
+            "normal and {} are folded against the surface",
+            run.quads.quads.size(), invalid, kMinValidScaledJacobian, folded);
         stages.field_layout = false;
         continue;
       }

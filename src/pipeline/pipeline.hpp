@@ -219,7 +219,8 @@ struct ComponentRun {
   // patches' corners, and what it found or why it failed.
   bool field_used = false;
   std::vector<std::array<uint32_t, 4>> field_corners;
-  std::vector<char> field_preferred;  // FieldSegmentation::preferred
+  std::vector<char> field_preferred;     // FieldSegmentation::preferred
+  std::vector<int> field_quarter_turns;  // FieldSegmentation::quarter_turns
   FieldLayoutLog field_log;
   std::optional<QuadSplitReport> quad_split;  // when the patches were split into quads
   Layout layout;

@@ -4,13 +4,17 @@
 // the corpus's singular vertices stay within a regression bound.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
 #include "corpus.hpp"
 #include "field/cross_field.hpp"
+#include "field/trace.hpp"
 #include "io/read_mesh.hpp"
+#include "layout/layout.hpp"
 #include "metrics/quality.hpp"
 #include "pipeline/remesh.hpp"
 #include "pipeline/sizing.hpp"
@@ -81,6 +85,29 @@ TEST_P(CorpusField, AlignedToFeaturesWithQuarterSingularities) {
     const CrossField again = field_of(p, r2, f2);
     EXPECT_EQ(again.angle.values(), cf.angle.values());
   }
+}
+
+// Every interior node emits as many separatrices as its index asks (4 - 4I: 3 at a +1/4
+// singularity, 5 at a -1/4 one, 4 at a seed): counted as the crossings of the field's arms
+// around the node, an arm in the gap between two faces' copies of the field is found, and one
+// in both is counted once. Read per face sector, up to 43 singularities of a mesh (the
+// elephant's; fandisk 4) were short of a ray or had one too many, and their patches turned by
+// three quarters there (`isoquad field --json`, ray_mismatches).
+TEST_P(CorpusField, EveryInteriorNodeEmitsTheRaysItsIndexCounts) {
+  ISOQUAD_CORPUS_MESH(path, GetParam());
+  const PreparedMesh p = prepare(read_mesh(path).mesh);
+  RefinedMesh refined;
+  EdgeData<char> feature;
+  const CrossField cf = field_of(p, refined, feature);
+  TraceOptions o;
+  o.edge_length = edge_length_for_quads(refined.mesh, 1500);
+  const TraceResult r = trace_separatrices(cf, o);
+  // A singularity of index +1 or more (4 - 4I <= 0: the field turns a whole turn around it, as
+  // at one vertex of cactus and of the cow on their unsubdivided surfaces) has no count of rays
+  // to meet; it emits what its sectors hold and is counted as a mismatch.
+  uint32_t whole_turns = 0;
+  for (uint32_t v : cf.singular) whole_turns += cf.index4[v] >= 4;
+  EXPECT_LE(r.ray_mismatches, whole_turns);
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, CorpusField, testing::ValuesIn(test::kCorpusMeshes),
@@ -194,8 +221,9 @@ TEST(CorpusFieldLayout, KnotIsCutByTheLoopsOfTwoSeeds) {
   EXPECT_GT(field.quality.sj_min, 0.5);
 }
 
-// Where the traced patches cannot be used (here mech-holes-shark: the locked map crowds a thin
-// traced patch to zero area), the component takes VSA's patches with VSA's repairs, as
+// Where the traced patches cannot be used (here mech-holes-shark: its traced quads keep one with
+// scaled Jacobian <= 0.001 against its own normal; before, the locked map crowded a thin traced
+// patch to zero area), the component takes VSA's patches with VSA's repairs, as
 // `--segmentation vsa` would, and the report says why.
 TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
   ISOQUAD_CORPUS_MESH(path, "mech-holes-shark.off");
@@ -203,8 +231,7 @@ TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
   const LaidOut field = remesh_with(input, "field");
   const ComponentRun& r = field.run.runs[0];
   EXPECT_FALSE(r.field_used);
-  EXPECT_NE(r.field_log.failure.find("a stage after the traced layout failed"), std::string::npos)
-      << r.field_log.failure;
+  EXPECT_FALSE(r.field_log.failure.empty());
   EXPECT_GT(r.field_log.traces, 0u);
   const auto report = nlohmann::json::parse(field.run.result.report);
   EXPECT_EQ(report["components"][0]["layout_source"], "vsa");
@@ -214,7 +241,8 @@ TEST(CorpusFieldLayout, FailedFieldLayoutFallsBackToVsaAndSaysWhy) {
 }
 
 // The hand at 700 quads: its traced layout mapped, but the untangler left quads at its fingers
-// with scaled Jacobian <= 0.001 against their own normal (6 of 1,765 when measured). Field mode
+// with scaled Jacobian <= 0.001 against their own normal or folded against the surface (2 and 5
+// of 1,484 when measured). Field mode
 // keeps the promise of a valid output all the same: a component whose traced quads are not all
 // valid takes VSA's patches, and the report says why.
 TEST(CorpusFieldLayout, TracedQuadsThatAreNotValidAreNotKept) {
@@ -240,12 +268,46 @@ TEST(CorpusFieldLayout, TracedQuadsThatAreNotValidAreNotKept) {
   }
 }
 
-// bunny00: where a stem met its track obliquely or a singularity's arm was merged, the traces'
-// rules miscount a patch's corners (nine patches of five or three); its angles, in the field's
-// quarters, read four, and the layout takes them as a preference. With the rules alone the
-// corner program chose those patches' corners from their shapes: mean scaled Jacobian 0.852 and
-// 24% of the quads with aspect ratio above 2.
-TEST(CorpusFieldLayout, CornersTheTracesMiscountAreReadFromTheAngles) {
+namespace {
+
+// The traced patches whose corners the layout changed: each had one corner slid to a
+// neighbouring meta-vertex of its cycle, over a meta-edge shorter than a quad.
+uint32_t expect_slid_only_over_short_edges(const ComponentRun& r) {
+  const MetaMesh& meta = r.seg.meta;
+  const double h = r.layout.edge_length;
+  uint32_t slid = 0;
+  for (uint32_t p = 0; p < r.field_corners.size(); ++p) {
+    const auto& given = r.field_corners[p];
+    if (given == kFreeCorners || r.field_preferred[p]) continue;
+    std::array<uint32_t, 4> chosen = r.layout.charts[p].corners;
+    std::sort(chosen.begin(), chosen.end());
+    if (chosen == given) continue;
+    ++slid;
+    std::vector<uint32_t> gone, added;
+    std::set_difference(given.begin(), given.end(), chosen.begin(), chosen.end(),
+                        std::back_inserter(gone));
+    std::set_difference(chosen.begin(), chosen.end(), given.begin(), given.end(),
+                        std::back_inserter(added));
+    EXPECT_EQ(gone.size(), 1u) << "patch " << p;
+    EXPECT_EQ(added.size(), 1u) << "patch " << p;
+    if (gone.size() != 1 || added.size() != 1) continue;
+    const auto& cycle = meta.faces[p].cycle;
+    const uint32_t m = uint32_t(cycle.size());
+    const bool forward = added[0] == (gone[0] + 1) % m, backward = gone[0] == (added[0] + 1) % m;
+    EXPECT_TRUE(forward || backward) << "patch " << p;
+    const uint32_t over = cycle[forward ? gone[0] : added[0]].edge;
+    EXPECT_LT(meta.edges[over].geodesic, h) << "patch " << p;
+  }
+  return slid;
+}
+
+}  // namespace
+
+// bunny00: with every node's rays counted as crossings, the traces' rules give nearly every
+// patch its four corners (at most 3 left to the corner ILP; with rays read per face sector, 9
+// patches of five or three corners, whose corners the ILP chose from their shapes: mean scaled
+// Jacobian 0.852 and 24% of the quads with aspect ratio above 2). Measured: 0.898 and 8.9%.
+TEST(CorpusFieldLayout, TracedPatchesHaveTheirFourCornersFromTheTraces) {
   ISOQUAD_CORPUS_MESH(path, "bunny00.off");
   const ReadResult input = read_mesh(path);
   RemeshOptions o;
@@ -254,12 +316,29 @@ TEST(CorpusFieldLayout, CornersTheTracesMiscountAreReadFromTheAngles) {
   const RemeshRun run = remesh_run(input.mesh, o, input.unshared_vertices);
   const ComponentRun& r = run.runs[0];
   ASSERT_TRUE(r.field_used) << r.field_log.failure;
-  EXPECT_GE(r.field_log.angle_corner_patches, 5u);
   EXPECT_LE(r.field_log.free_corner_patches, 3u);
+  expect_slid_only_over_short_edges(r);
   const QualityReport q = measure_quality(run.result.quads, &input.mesh);
   EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.same_topology);
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
-  EXPECT_EQ(q.sj_invalid, 0u);  // 3 before the untangler took the quads' own normals too
+  EXPECT_EQ(q.sj_invalid, 0u);
   EXPECT_GT(q.sj_mean, 0.875);
   EXPECT_LT(q.aspect_above_2, 10.0);  // percent
+}
+
+// The double torus: the side equations of its traced corners admit no positive lengths (before,
+// E402 and VSA's patches); the layout slides only then, and only over meta-edges shorter than
+// a quad, where a trace stopped a fraction of a quad from a node or another trace's end (2
+// patches when measured).
+TEST(CorpusFieldLayout, CornersSlideOverMetaEdgesShorterThanAQuad) {
+  ISOQUAD_CORPUS_MESH(path, "double-torus-example.off");
+  const ReadResult input = read_mesh(path);
+  const LaidOut field = remesh_with(input, "field");
+  const ComponentRun& r = field.run.runs[0];
+  ASSERT_TRUE(r.field_used) << r.field_log.failure;
+  EXPECT_GE(expect_slid_only_over_short_edges(r), 1u);
+  EXPECT_TRUE(
+      std::any_of(r.layout_report.repairs.begin(), r.layout_report.repairs.end(),
+                  [](const std::string& s) { return s.find("slid") != std::string::npos; }));
+  EXPECT_GT(field.quality.sj_mean, 0.85);
 }
