@@ -299,6 +299,12 @@ struct Segment {
   double arc;  // the trace's length at `from`
 };
 
+// A stretch of a trace inside one face, in that face's chart.
+struct FacePiece {
+  uint32_t face;
+  P2 from, to;
+};
+
 struct Tracer {
   const CrossField& cf;
   const TriMesh& m;
@@ -363,6 +369,45 @@ struct Tracer {
   EdgePoint edge_point(uint32_t h, double s) const {
     const uint32_t e = m.edge(h);
     return {e, m.edge_halfedge(e) == h ? s : 1 - s};
+  }
+
+  // Appends to trace t, and to `pieces`, a path from p in face f (entered through halfedge
+  // `entry`; kInvalid at a corner) straight towards vertex v, face by face, until a face has v as
+  // a corner. False where a boundary or feature edge comes first, or after 256 faces.
+  bool steer(uint32_t f, P2 p, uint32_t entry, uint32_t v, Trace& t,
+             std::vector<FacePiece>& pieces) const {
+    const Vec3 x = m.position(v);
+    for (int guard = 0; guard < 256; ++guard) {
+      const Tri& tri = m.face(f);
+      if (const auto* at = std::find(tri.begin(), tri.end(), v); at != tri.end()) {
+        const P2 q = charts.corner[f][at - tri.begin()];
+        pieces.push_back({f, p, q});
+        t.length += length(q - p);
+        t.faces.push_back(f);
+        t.points.push_back(surface_point(f, q));
+        t.on_edge.push_back({kInvalid, 0});
+        return true;
+      }
+      const Vec3 w = x - position(f, p);
+      const P2 d{dot(w, cf.frames.x[f]), dot(w, cf.frames.y[f])};
+      uint32_t h = kInvalid;
+      double step = 0, s = 0;
+      if (!exit(f, p, d, entry, entry == kInvalid, h, step, s)) return false;
+      if (m.twin(h) == kInvalid || cf.feature[m.edge(h)]) return false;
+      const P2 q = p + step * d;
+      pieces.push_back({f, p, q});
+      t.length += length(q - p);
+      t.faces.push_back(f);
+      t.points.push_back(surface_point(f, q));
+      t.on_edge.push_back(edge_point(h, s));
+      const uint32_t tw = m.twin(h), g = TriMesh::face_of(tw);
+      const auto& cg = charts.corner[g];
+      const P2 ga = cg[tw % 3], gb = cg[(tw % 3 + 1) % 3];
+      p = ga + (1 - s) * (gb - ga);
+      f = g;
+      entry = tw;
+    }
+    return false;
   }
 
   void finish(uint32_t id, uint32_t f, P2 p, EdgePoint at, TraceEnd end, uint32_t on = kInvalid) {
@@ -612,11 +657,7 @@ struct Tracer {
 struct Connection {
   uint32_t ray_a = 0, ray_b = 0;  // the ray traced, and the ray of the node it reaches
   Trace trace;
-  struct Piece {
-    uint32_t face;
-    P2 from, to;
-  };
-  std::vector<Piece> pieces;  // per face crossed, in that face's chart
+  std::vector<FacePiece> pieces;  // per face crossed
 };
 
 // Nodes near a point, on a grid of cells the capture radius wide.
@@ -680,7 +721,7 @@ std::vector<Connection> find_connections(const CrossField& cf, const std::vector
     node_rays[ray_node[r]].push_back(r);
     ray_dir[r] = ray_direction3(cf, rays[r]);
   }
-  const double from_behind = std::cos(kPi / 9), head_on = std::cos(kPi / 12);
+  const double from_behind = std::cos(kPi / 6), head_on = std::cos(5 * kPi / 36);
   std::vector<Connection> found;
   for (uint32_t a = 0; a < rays.size(); ++a) {
     const uint32_t id = free.start(rays[a]);
@@ -707,8 +748,10 @@ std::vector<Connection> find_connections(const CrossField& cf, const std::vector
           // Back at its own node only after going round something (a loop), by another ray.
           if (n == ray_node[a] && sg.arc + t * std::sqrt(len2) < 4 * radius) return;
           // It comes in along ray b if, seen from the node, where it was twice the radius
-          // before lies within 20 degrees of b: near a node the field turns fast, so its own
-          // direction there says less than where it came from.
+          // before lies within 30 degrees of b: near a node the field turns fast, so its own
+          // direction there says less than where it came from. (A trace parallel to b passing
+          // at the capture radius is seen at atan(1/2) = 26.6 degrees: with 20, a pass farther
+          // than 0.73 radius was captured only head-on, else it stopped beside the node.)
           const double arc = sg.arc + t * std::sqrt(len2);
           std::size_t k = sid;
           while (k > first_segment && free.segments[k].arc > arc - 2 * radius) --k;
@@ -717,7 +760,7 @@ std::vector<Connection> find_connections(const CrossField& cf, const std::vector
           const Vec3 w = back - x;
           const double wn = norm(w);
           if (!(wn > 0)) return;
-          // Or if its own direction there is within 15 degrees of b's, reversed.
+          // Or if its own direction there is within 25 degrees of b's, reversed.
           double best = 0;
           for (uint32_t b : node_rays[n]) {
             if (b == a || dot(dir, ray_dir[b]) >= 0) continue;
@@ -759,44 +802,12 @@ std::vector<Connection> find_connections(const CrossField& cf, const std::vector
     }
     // Steered: in each face straight towards the node, until a face has it as a corner.
     uint32_t f = t.faces[j], entry = kInvalid;
-    P2 p = free.segments[first_segment + j].from;
+    const P2 p = free.segments[first_segment + j].from;
     if (j > 0)
       for (uint32_t i = 0; i < 3; ++i)
         if (m.edge(3 * f + i) == t.on_edge[j].edge) entry = 3 * f + i;
     const uint32_t v = nodes[target];
-    bool reached = false;
-    for (int guard = 0; guard < 256 && !reached; ++guard) {
-      const Tri& tri = m.face(f);
-      if (const auto* at = std::find(tri.begin(), tri.end(), v); at != tri.end()) {
-        const P2 q = free.charts.corner[f][at - tri.begin()];
-        c.pieces.push_back({f, p, q});
-        c.trace.length += length(q - p);
-        c.trace.faces.push_back(f);
-        c.trace.points.push_back(free.surface_point(f, q));
-        c.trace.on_edge.push_back({kInvalid, 0});
-        reached = true;
-        break;
-      }
-      const Vec3 w = x - free.position(f, p);
-      const P2 d{dot(w, cf.frames.x[f]), dot(w, cf.frames.y[f])};
-      uint32_t h = kInvalid;
-      double step = 0, s = 0;
-      if (!free.exit(f, p, d, entry, entry == kInvalid, h, step, s)) break;
-      if (m.twin(h) == kInvalid || cf.feature[m.edge(h)]) break;
-      const P2 q = p + step * d;
-      c.pieces.push_back({f, p, q});
-      c.trace.length += length(q - p);
-      c.trace.faces.push_back(f);
-      c.trace.points.push_back(free.surface_point(f, q));
-      c.trace.on_edge.push_back(free.edge_point(h, s));
-      const uint32_t tw = m.twin(h), g = TriMesh::face_of(tw);
-      const auto& cg = free.charts.corner[g];
-      const P2 ga = cg[tw % 3], gb = cg[(tw % 3 + 1) % 3];
-      p = ga + (1 - s) * (gb - ga);
-      f = g;
-      entry = tw;
-    }
-    if (!reached) continue;
+    if (!free.steer(f, p, entry, v, c.trace, c.pieces)) continue;
     c.trace.end = TraceEnd::node;
     c.trace.end_vertex = v;
     found.push_back(std::move(c));

@@ -17,7 +17,7 @@ namespace isoquad {
 struct TraceOptions {
   double edge_length = 0;  // h (mesh units); a trace is capped at min(200 h, 4 sqrt(area))
   // A separatrix passing within capture * h of another node, coming in along one of that
-  // node's rays (within 20 degrees, seen from the node), is taken to be that ray's separatrix too:
+  // node's rays (within 30 degrees, seen from the node), is taken to be that ray's separatrix too:
   // it ends at the node, and the node does not trace that ray (FIELD_LAYOUT.md §3 rule 3). 0: no
   // capture.
   double capture = 0.5;
