@@ -54,8 +54,8 @@ P2 arm(const CrossField& cf, uint32_t f, int k) {
 }
 
 // A ray that leaves vertex v into face f along arm k; where the arm lies in the gap between two
-// faces' copies of the field (see rays_at), it leaves along `direction` (f's chart) through f and
-// follows arm k from the next face on.
+// faces' copies of the field (see interior_rays), it leaves along `direction` (f's chart)
+// through f and follows arm k from the next face on.
 struct Ray {
   uint32_t vertex, face;
   int arm;
@@ -176,6 +176,11 @@ std::vector<Ray> interior_rays(const CrossField& cf, const Charts& ch, const Tri
     events.push_back({j - k * big, phi - double(k) * theta, sign, r});
   };
   auto lo_level = [](double g) { return int64_t(std::ceil(-g / (kPi / 2) - 1e-12)); };
+  // The unit vector at angle t from e.
+  auto turned = [](P2 e, double t) {
+    const double l = length(e), c = std::cos(t), s = std::sin(t);
+    return P2{(c * e.x - s * e.y) / l, (s * e.x + c * e.y) / l};
+  };
   for (std::size_t i = 0; i < n; ++i) {
     const FanFace& ff = fan[i];
     // Inside face i: psi + j pi/2 in [phi_i, phi_i + beta_i).
@@ -196,10 +201,6 @@ std::vector<Ray> interior_rays(const CrossField& cf, const Charts& ch, const Tri
       // Down across the edge: the ray between the two faces, along the mean of its copies.
       const double in_f = ff.psi + double(j) * kPi / 2, in_g = next.psi + double(j) * kPi / 2;
       const double mid = 0.5 * (in_f + in_g);
-      auto turned = [](P2 e, double t) {
-        const double l = length(e), c = std::cos(t), s = std::sin(t);
-        return P2{(c * e.x - s * e.y) / l, (s * e.x + c * e.y) / l};
-      };
       const FanFace& g = i + 1 < n ? fan[i + 1] : fan[0];
       Ray r;
       if (mid < next.phi) {
@@ -936,38 +937,39 @@ Strips strip_traces(const Tracer& tracer, const TraceResult& result, double widt
   // Two points of one track closer than `gap`: a trace that stops there, beside another trace's
   // end or a node. The meta-edge between them is shorter than a quad, so the integer lengths
   // stretch it to one, or cannot: a strip that closes around a tube a fraction of a quad away
-  // from where it started forces that fraction to zero. Both ends are candidates, the one that
-  // stopped first ranked first; deleting one frees the traces that stopped on it.
+  // from where it started forces that fraction to zero. Each such end is a candidate, the
+  // closest first; deleting one frees the traces that stopped on it.
   if (gap > 0) {
-    std::vector<Vec3> end(result.traces.size());
-    for (uint32_t id = 0; id < result.traces.size(); ++id)
+    const std::size_t n = result.traces.size();
+    std::vector<Vec3> end(n);
+    for (uint32_t id = 0; id < n; ++id)
       if (!result.traces[id].points.empty())
         end[id] = position_on(m, result.traces[id].points.back());
-    auto on_curve = [](TraceEnd e) { return e == TraceEnd::boundary || e == TraceEnd::feature; };
-    std::vector<double> nearest(result.traces.size(), INFINITY);
-    auto consider = [&](uint32_t id, uint32_t other, double d) {
-      if (d >= nearest[id]) return;
-      nearest[id] = d;
-      if (other != kInvalid &&
-          std::find(out.beside[id].begin(), out.beside[id].end(), other) == out.beside[id].end())
-        out.beside[id].push_back(other);
-    };
-    for (uint32_t a = 0; a < result.traces.size(); ++a) {
-      const Trace& ta = result.traces[a];
-      if (ta.end != TraceEnd::track && !on_curve(ta.end)) continue;
-      for (uint32_t b = 0; b < result.traces.size(); ++b) {
-        const Trace& tb = result.traces[b];
-        const bool same_track =
-            b != a && ((ta.end == TraceEnd::track && tb.end == TraceEnd::track &&
-                        ta.end_trace == tb.end_trace) ||
-                       (on_curve(ta.end) && on_curve(tb.end)));
-        if (same_track) consider(a, b, norm(end[a] - end[b]));
-      }
-      // The nodes, the track's own source among them (its far end is a trace end or a node).
-      for (uint32_t v : result.nodes)
-        if (v != ta.source) consider(a, kInvalid, norm(end[a] - m.position(v)));
+    // The ends by what they stopped on: a trace, or (kInvalid) a feature or the boundary.
+    std::unordered_map<uint32_t, std::vector<uint32_t>> on_track;
+    for (uint32_t id = 0; id < n; ++id) {
+      const TraceEnd e = result.traces[id].end;
+      if (e == TraceEnd::track) on_track[result.traces[id].end_trace].push_back(id);
+      if (e == TraceEnd::boundary || e == TraceEnd::feature) on_track[kInvalid].push_back(id);
     }
-    for (uint32_t id = 0; id < result.traces.size(); ++id) {
+    const NodeGrid nodes(m, result.nodes, gap);
+    std::vector<double> nearest(n, INFINITY);
+    for (const auto& [track, ends] : on_track)
+      for (const uint32_t a : ends) {
+        for (const uint32_t b : ends) {
+          const double d = norm(end[a] - end[b]);
+          if (b == a || d >= nearest[a]) continue;
+          nearest[a] = d;
+          if (std::find(out.beside[a].begin(), out.beside[a].end(), b) == out.beside[a].end())
+            out.beside[a].push_back(b);
+        }
+        // A node near the end, the track's own source among them (not the trace's own).
+        nodes.near(end[a], end[a], [&](uint32_t k) {
+          if (result.nodes[k] != result.traces[a].source)
+            nearest[a] = std::min(nearest[a], norm(end[a] - m.position(result.nodes[k])));
+        });
+      }
+    for (uint32_t id = 0; id < n; ++id) {
       if (!(nearest[id] < gap)) continue;
       const bool listed =
           std::any_of(ranked.begin(), ranked.end(), [&](const auto& r) { return r.second == id; });

@@ -150,8 +150,6 @@ double mesh_diagonal(const PreparedMesh& prep) {
   return box.diagonal() > 0 ? box.diagonal() : 1.0;
 }
 
-// A run's quads, their two-sided distance to `surface` (sampled as `isoquad quality` does) over
-// `diagonal`, and its folded quads.
 // The quads with scaled Jacobian at most kMinValidScaledJacobian against their own normal: the
 // output's validity as `isoquad quality` counts it.
 uint32_t invalid_quads(const QuadMesh& quads) {
@@ -164,6 +162,8 @@ uint32_t invalid_quads(const QuadMesh& quads) {
   return n;
 }
 
+// A run's quads, their two-sided distance to `surface` (sampled as `isoquad quality` does) over
+// `diagonal`, and its folded quads.
 SizeRound measure_run(const ComponentRun& run, const AabbTree& surface, double diagonal) {
   const QualityOptions measure;
   const double d =
