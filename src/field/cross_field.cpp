@@ -425,7 +425,11 @@ CrossField compute_cross_field(const TriMesh& mesh, const EdgeData<char>& featur
   uint32_t dropped = 0;
   EdgeData<char> kept =
       options.edge_length > 0
-          ? long_features(mesh, feature, options.min_feature_length * options.edge_length, &dropped)
+          ? long_features(mesh, feature,
+                          {options.min_feature_length * options.edge_length,
+                           options.weak_feature_length * options.edge_length,
+                           options.weak_feature_angle},
+                          &dropped)
           : feature;
   const double t = options.smoothing * options.edge_length * options.edge_length;
   // The field system's pattern depends on the connectivity alone: its symbolic factorization

@@ -35,6 +35,11 @@ struct CrossFieldOptions {
   // Feature networks shorter than this many h in all neither constrain the field nor hold their
   // vertices while smoothing (long_features in feature_curves.hpp).
   double min_feature_length = 2;
+  // Nor do networks shorter than weak_feature_length h whose mean dihedral angle is below
+  // weak_feature_angle degrees: the creases an organic mesh shows at the feature angle, each of
+  // which pinned the field and bred singularities. Their effect on the corpus is in
+  // docs/field.md.
+  double weak_feature_length = 10, weak_feature_angle = 80;
 };
 
 enum class FieldVariant {

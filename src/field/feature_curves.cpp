@@ -1,5 +1,6 @@
 #include "field/feature_curves.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -71,8 +72,8 @@ std::vector<FeatureCurve> feature_curves(const TriMesh& mesh, const EdgeData<cha
   return curves;
 }
 
-EdgeData<char> long_features(const TriMesh& mesh, const EdgeData<char>& feature, double min_length,
-                             uint32_t* dropped_networks) {
+EdgeData<char> long_features(const TriMesh& mesh, const EdgeData<char>& feature,
+                             const FeatureNetworkRule& rule, uint32_t* dropped_networks) {
   // Networks: feature edges connected through shared vertices.
   UnionFind networks(mesh.num_vertices());
   for (uint32_t e = 0; e < mesh.num_edges(); ++e)
@@ -80,19 +81,29 @@ EdgeData<char> long_features(const TriMesh& mesh, const EdgeData<char>& feature,
       const uint32_t h = mesh.edge_halfedge(e);
       networks.unite(mesh.from(h), mesh.to(h));
     }
-  std::vector<double> length(mesh.num_vertices(), 0.0);
+  // Per network (at its root vertex): length, and dihedral angle times length.
+  std::vector<double> length(mesh.num_vertices(), 0.0), bend(mesh.num_vertices(), 0.0);
   for (uint32_t e = 0; e < mesh.num_edges(); ++e)
     if (feature[e]) {
       const uint32_t h = mesh.edge_halfedge(e);
-      length[networks.find(mesh.from(h))] +=
-          norm(mesh.position(mesh.to(h)) - mesh.position(mesh.from(h)));
+      const double l = norm(mesh.position(mesh.to(h)) - mesh.position(mesh.from(h)));
+      const double cosine = dot(mesh.face_normal(TriMesh::face_of(h)),
+                                mesh.face_normal(TriMesh::face_of(mesh.twin(h))));
+      const uint32_t r = networks.find(mesh.from(h));
+      length[r] += l;
+      bend[r] += l * std::acos(std::clamp(cosine, -1.0, 1.0));
     }
+  const double weak = rule.weak_angle_deg * std::numbers::pi / 180;
+  auto kept_network = [&](uint32_t r) {
+    if (!(length[r] >= rule.min_length)) return false;
+    return length[r] >= rule.weak_length || bend[r] >= weak * length[r];
+  };
   EdgeData<char> kept(mesh.num_edges(), 0);
   uint32_t dropped = 0;
   for (uint32_t v = 0; v < mesh.num_vertices(); ++v)
-    if (length[v] > 0 && length[v] < min_length) ++dropped;
+    if (length[v] > 0 && !kept_network(v)) ++dropped;
   for (uint32_t e = 0; e < mesh.num_edges(); ++e)
-    if (feature[e]) kept[e] = length[networks.find(mesh.from(mesh.edge_halfedge(e)))] >= min_length;
+    if (feature[e]) kept[e] = kept_network(networks.find(mesh.from(mesh.edge_halfedge(e))));
   if (dropped_networks) *dropped_networks = dropped;
   return kept;
 }

@@ -25,10 +25,18 @@ struct FeatureCurve {
 std::vector<FeatureCurve> feature_curves(const TriMesh& mesh, const EdgeData<char>& feature,
                                          double corner_deg = 45);
 
-// The feature edges of the networks (edges connected through shared vertices) at least
-// `min_length` long in all (mesh units): a CAD model's creases form long networks even where one
-// crease is short, while noise on an organic mesh marks small isolated ones.
-EdgeData<char> long_features(const TriMesh& mesh, const EdgeData<char>& feature, double min_length,
-                             uint32_t* dropped_networks = nullptr);
+// Which feature networks (edges connected through shared vertices) constrain the field, by
+// their total length and their length-weighted mean dihedral angle (mesh units, degrees).
+struct FeatureNetworkRule {
+  double min_length = 0;  // shorter networks are dropped
+  // Networks shorter than weak_length whose mean dihedral angle is below weak_angle_deg are
+  // dropped too: a CAD model's creases are sharp (90 degrees and more) or form long networks;
+  // an organic mesh's scattered creases barely pass the feature angle and are short.
+  double weak_length = 0, weak_angle_deg = 0;
+};
+
+// The feature edges of the networks `rule` keeps.
+EdgeData<char> long_features(const TriMesh& mesh, const EdgeData<char>& feature,
+                             const FeatureNetworkRule& rule, uint32_t* dropped_networks = nullptr);
 
 }  // namespace isoquad

@@ -328,6 +328,26 @@ TEST(CorpusFieldLayout, TracedPatchesHaveTheirFourCornersFromTheTraces) {
   EXPECT_LT(q.aspect_above_2, 10.0);  // percent
 }
 
+// Cactus: its short creases, none sharper than 80 degrees on average, do not pin the field. When
+// they did: 46 singularities, mean SJ 0.858 and 31% of the quads above aspect 2; measured without
+// them: 24, 0.949 and 1.4%.
+TEST(CorpusFieldLayout, WeakShortCreasesDoNotPinTheField) {
+  ISOQUAD_CORPUS_MESH(path, "cactus.off");
+  const ReadResult input = read_mesh(path);
+  const RemeshRun run = field_run(input, 1500);
+  const ComponentRun& r = run.runs[0];
+  ASSERT_TRUE(r.field_used) << r.field_log.failure;
+  EXPECT_LE(r.field_log.singularities, 30u);
+  const QualityReport q = measure_quality(run.result.quads, &input.mesh);
+  EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.same_topology);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  EXPECT_EQ(q.sj_invalid, 0u);
+  EXPECT_NEAR(double(run.result.quads.num_faces()), 1500, 150);
+  EXPECT_GT(q.sj_mean, 0.93);
+  EXPECT_LT(q.aspect_above_2, 5.0);  // percent
+  EXPECT_LT(q.hausdorff, 0.01);  // of the diagonal
+}
+
 // The double torus: the side equations of its traced corners admit no positive lengths (before,
 // E402 and VSA's patches); the layout slides only then, and only over meta-edges shorter than
 // a quad, where a trace stopped a fraction of a quad from a node or another trace's end (2

@@ -184,12 +184,29 @@ TEST(FeatureCurves, CubeEdgesAreTwelveCurvesInOneNetwork) {
   }
   // One network of 12 sides: kept whole below its total length, dropped whole above it.
   uint32_t dropped = 0;
-  const EdgeData<char> kept = long_features(c.mesh, c.feature, 11.5 * side, &dropped);
+  const EdgeData<char> kept = long_features(c.mesh, c.feature, {11.5 * side}, &dropped);
   EXPECT_EQ(dropped, 0u);
   EXPECT_EQ(kept.values(), c.feature.values());
-  const EdgeData<char> none = long_features(c.mesh, c.feature, 12.5 * side, &dropped);
+  const EdgeData<char> none = long_features(c.mesh, c.feature, {12.5 * side}, &dropped);
   EXPECT_EQ(dropped, 1u);
   EXPECT_EQ(std::count(none.begin(), none.end(), 1), 0);
+}
+
+TEST(FeatureCurves, ShortNetworksAreDroppedOnlyWhereTheyAreWeak) {
+  // The cube's creases bend by 90 degrees: a short network that is kept when weak means below
+  // 85 degrees, dropped when it means below 95, and kept at any angle once long enough.
+  const PreparedComponent c = prepared(test::subdivided_cube(6));
+  const Box3 box = c.mesh.bounding_box();
+  const double side = box.hi.x - box.lo.x;
+  uint32_t dropped = 0;
+  EXPECT_EQ(long_features(c.mesh, c.feature, {side, 13 * side, 85}, &dropped).values(),
+            c.feature.values());
+  EXPECT_EQ(dropped, 0u);
+  const EdgeData<char> weak = long_features(c.mesh, c.feature, {side, 13 * side, 95}, &dropped);
+  EXPECT_EQ(std::count(weak.begin(), weak.end(), 1), 0);
+  EXPECT_EQ(dropped, 1u);
+  EXPECT_EQ(long_features(c.mesh, c.feature, {side, 11 * side, 95}, &dropped).values(),
+            c.feature.values());
 }
 
 TEST(FeatureCurves, ClosedRingIsOneClosedCurve) {
