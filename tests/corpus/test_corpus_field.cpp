@@ -345,7 +345,7 @@ TEST(CorpusFieldLayout, WeakShortCreasesDoNotPinTheField) {
   EXPECT_NEAR(double(run.result.quads.num_faces()), 1500, 150);
   EXPECT_GT(q.sj_mean, 0.93);
   EXPECT_LT(q.aspect_above_2, 5.0);  // percent
-  EXPECT_LT(q.hausdorff, 0.01);  // of the diagonal
+  EXPECT_LT(q.hausdorff, 0.01);      // of the diagonal
 }
 
 // The double torus: the side equations of its traced corners admit no positive lengths (before,
