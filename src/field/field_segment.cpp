@@ -11,6 +11,8 @@
 #include "core/face_regions.hpp"
 #include "isoquad/error.hpp"
 #include "layout/divide_split.hpp"
+#include "layout/flow.hpp"
+#include "layout/quantize.hpp"
 #include "seg/disk_patches.hpp"
 #include "seg/patch_topology.hpp"
 
@@ -97,6 +99,7 @@ struct Embedded {
   RefinedMesh refined;
   EdgeData<char> feature;
   std::vector<std::pair<uint32_t, uint32_t>> seams;  // node pairs joined by a trace
+  std::vector<uint32_t> seam_trace;                  // per seam, its trace
   std::vector<uint32_t> nodes;  // the traces' sources and ends, as vertices of `refined`
   std::vector<uint32_t> sources;
   // The last step of each trace that ends on a track, a feature or the boundary: its end and the
@@ -141,6 +144,7 @@ std::optional<Embedded> embed(const RefinedMesh& base, const CrossField& cf, con
       const uint32_t a = path[k], b = path[k + 1];
       if (a == b) continue;
       out.seams.push_back({a, b});
+      out.seam_trace.push_back(uint32_t(id));
       if (!along_an_edge(m, nodes, t.faces[k], a, b)) chords.push_back({t.faces[k], a, b});
     }
     out.nodes.push_back(path.front());
@@ -167,8 +171,9 @@ std::optional<Embedded> embed(const RefinedMesh& base, const CrossField& cf, con
 
 // The cut mesh's edges on the traces: each seam pair is an edge, or a run of pieces of one split
 // edge (when the trace ran along an edge of the mesh).
-EdgeData<char> seam_edges(const TriMesh& m,
-                          const std::vector<std::pair<uint32_t, uint32_t>>& seams) {
+EdgeData<char> seam_edges(const TriMesh& m, const std::vector<std::pair<uint32_t, uint32_t>>& seams,
+                          const std::vector<uint32_t>& seam_trace,
+                          std::vector<std::pair<uint32_t, uint32_t>>& vertex_traces) {
   EdgeData<char> seam(m.num_edges(), 0);
   auto edge_between = [&](uint32_t a, uint32_t b) {
     uint32_t found = kInvalid;
@@ -181,10 +186,14 @@ EdgeData<char> seam_edges(const TriMesh& m,
       });
     return found;
   };
-  for (const auto& [a, b] : seams) {
+  for (std::size_t k = 0; k < seams.size(); ++k) {
+    const auto [a, b] = seams[k];
     // The straight run from a to b along mesh edges: from a, the edge most nearly towards b.
     uint32_t at = a;
+    vertex_traces.push_back({a, seam_trace[k]});
+    vertex_traces.push_back({b, seam_trace[k]});
     for (int guard = 0; at != b && guard < 1000; ++guard) {
+      if (at != a) vertex_traces.push_back({at, seam_trace[k]});
       if (const uint32_t e = edge_between(at, b); e != kInvalid) {
         seam[e] = 1;
         break;
@@ -208,6 +217,8 @@ EdgeData<char> seam_edges(const TriMesh& m,
       at = next;
     }
   }
+  std::sort(vertex_traces.begin(), vertex_traces.end());
+  vertex_traces.erase(std::unique(vertex_traces.begin(), vertex_traces.end()), vertex_traces.end());
   return seam;
 }
 
@@ -433,29 +444,28 @@ std::vector<uint32_t> handle_seeds(const TriMesh& cut, const FaceData<uint32_t>&
   return seeds;
 }
 
-}  // namespace
-
-FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& feature, double h,
-                                FieldLayoutLog& log) {
-  auto t0 = Clock::now();
-  EdgeData<char> split_feature = feature;
-  const RefinedMesh base = split_constraint_conflicts(identity_refinement(mesh), split_feature);
-  CrossFieldOptions fo;
-  fo.edge_length = h;
-  const CrossField cf = compute_cross_field(base.mesh, split_feature, fo);
-  log.singularities = uint32_t(cf.singular.size());
-  log.field_seconds = seconds_since(t0);
-
+// One traced layout: the segmentation, the traces, and the trace each seam vertex of the
+// segmentation's mesh lies on.
+struct Traced {
   FieldSegmentation out;
-  SegmentResult& seg = out.seg;
   TraceResult tr;
+  std::vector<std::pair<uint32_t, uint32_t>> vertex_traces;  // (vertex, trace), sorted
+};
+
+// The traces of `to` embedded, traced again with seeds if some patch is not a disk, made disks,
+// and given their meta-mesh and corners. log.failure says why where it cannot be used.
+Traced trace_layout(const RefinedMesh& base, const CrossField& cf, TraceOptions to, double h,
+                    FieldLayoutLog& log) {
+  Traced traced;
+  FieldSegmentation& out = traced.out;
+  SegmentResult& seg = out.seg;
+  TraceResult& tr = traced.tr;
   std::optional<Embedded> em;
   EdgeData<char> seam;
-  TraceOptions to;
-  to.edge_length = h;
-  // Traced, and traced again with seeds if some patch is not a disk (a handle no trace cuts).
+  to.seeds.clear();
+  log.failure.clear();
   for (int pass = 0; pass < 2; ++pass) {
-    t0 = Clock::now();
+    auto t0 = Clock::now();
     tr = trace_separatrices(cf, to);
     log.nodes = uint32_t(tr.nodes.size());
     log.traces = uint32_t(tr.traces.size());
@@ -467,11 +477,11 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
     log.trace_seconds += seconds_since(t0);
 
     t0 = Clock::now();
-    log.failure.clear();
     em = embed(base, cf, tr, log.failure);
-    if (!em) return out;
+    if (!em) return traced;
     const TriMesh& cut = em->refined.mesh;
-    seam = seam_edges(cut, em->seams);
+    traced.vertex_traces.clear();
+    seam = seam_edges(cut, em->seams, em->seam_trace, traced.vertex_traces);
     std::vector<uint32_t> region;
     seg.num_patches = face_regions(
         cut, [&](uint32_t he) { return !seam[cut.edge(he)] && !em->feature[cut.edge(he)]; },
@@ -483,11 +493,11 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
     log.seeds = uint32_t(to.seeds.size());
     if (to.seeds.empty()) break;
   }
-  t0 = Clock::now();
+  const auto t0 = Clock::now();
   const TriMesh& cut = em->refined.mesh;
   // Patches that are not disks (a handle no trace crossed), pinched, or too small for four
   // corners (between two traces that nearly met) are made disks as VSA's are.
-  const FaceData<uint32_t> traced = seg.labels;
+  const FaceData<uint32_t> labels_traced = seg.labels;
   const uint32_t traced_patches = seg.num_patches;
   DiskRepairLog repair;
   try {
@@ -497,11 +507,11 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
     log.failure = fmt::format("the traced patches cannot be made disks: {}", e.what());
     seg.refined = std::move(em->refined);
     seg.feature = std::move(em->feature);
-    return out;
+    return traced;
   }
   log.patches = seg.num_patches;
   const std::vector<char> repaired =
-      changed_patches(traced, traced_patches, seg.labels, seg.num_patches);
+      changed_patches(labels_traced, traced_patches, seg.labels, seg.num_patches);
   log.repaired_patches = uint32_t(std::count(repaired.begin(), repaired.end(), 1));
 
   MetaMeshOptions mo;
@@ -521,13 +531,14 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   mo.forced.erase(std::unique(mo.forced.begin(), mo.forced.end()), mo.forced.end());
   seg.refined = std::move(em->refined);
   seg.feature = std::move(em->feature);
+  // Splitting appends vertices: the seam vertices keep their ids.
   seg.dividing_splits = split_dividing_edges(seg.refined, seg.labels, seg.feature);
   try {
     seg.meta = build_meta_mesh(seg.refined.mesh, seg.labels, seg.num_patches, seg.feature, mo);
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::layout) throw;
     log.failure = fmt::format("the traced patches give no meta-mesh: {}", e.what());
-    return out;
+    return traced;
   }
   try {
     check_meta_mesh(seg.refined.mesh, seg.labels, seg.meta);
@@ -535,7 +546,7 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
     // A seam loop without a node, or a patch bordering itself: a layout the tracing should not
     // have made, reported as such (the JSON's fallback reason) rather than stopping the run.
     log.failure = fmt::format("the traced patches give an inconsistent meta-mesh: {}", e.what());
-    return out;
+    return traced;
   }
   measure_geodesic_lengths(seg.refined.mesh, seg.labels, seg.meta);
   seg.vsa_labels = seg.labels;
@@ -554,7 +565,259 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   log.free_corner_patches =
       uint32_t(std::count(out.corners.begin(), out.corners.end(), kFreeCorners));
   log.embed_seconds += seconds_since(t0);
+  return traced;
+}
+
+// How far the integer layout of traced patches is from their shapes. Each patch with corners
+// has a chart of W x H quads under the integer lengths that best fit the meta-edges' geodesic
+// lengths (the length program without the corner program: a patch without corners only gives
+// its meta-edges, and where the given corners admit no lengths the patches of the meta-edges
+// forced to zero count as such); its stretch s = (W / its mean target width) / (H / its mean
+// target height) is what the map must squeeze into each quad. Misfit: the area-weighted mean of
+// |log s| (log 2 for a patch without corners, at most log 8) plus the patches' bending beyond
+// kBending.
+struct LayoutFit {
+  double misfit = INFINITY;
+  std::vector<double> badness;  // per patch, |log s|
+  std::vector<double> bending;  // per patch, by how much its total curvature passes kBending
+  // Per patch with corners, 1 where it is narrower than a quad or smaller than two in its
+  // targets: its meta-edges, stretched to whole quads, force their lengths on every patch the
+  // strips through them cross (FIELD_LAYOUT.md §5: such traces are deleted first).
+  std::vector<char> small;
+};
+
+// A patch whose total absolute Gaussian curvature (on the field's smoothed surface) passes this
+// cannot be mapped onto a rectangle without quads crowding where it bends (FIELD_LAYOUT.md §5:
+// near-developable patches). Each multiple beyond it counts in the misfit as a stretch of e.
+constexpr double kBending = std::numbers::pi / 3;
+
+constexpr double kWorst = 2.0794415416798357;  // log 8
+
+LayoutFit layout_fit(const Traced& t, const CrossField& cf, double h) {
+  LayoutFit fit;
+  const SegmentResult& seg = t.out.seg;
+  const MetaMesh& meta = seg.meta;
+  const uint32_t np = uint32_t(meta.faces.size());
+  std::vector<std::array<uint32_t, 4>> corners = t.out.corners;
+  std::vector<char> free(np, 0);
+  for (uint32_t p = 0; p < np; ++p) {
+    if (corners[p] != kFreeCorners) continue;
+    const uint32_t n = uint32_t(meta.faces[p].cycle.size());
+    if (n < 4) return fit;
+    free[p] = 1;
+    corners[p] = {0, n / 4, n / 2, 3 * n / 4};
+  }
+  const std::vector<std::vector<uint8_t>> sides = item_sides(meta, corners);
+  const std::vector<SideRow> all = side_equations(meta, sides);
+  // Where the given corners admit no lengths (the layout then slides or chooses corners), the
+  // patches of the meta-edges forced to zero count as patches without corners.
+  std::vector<SideRow> rows;
+  for (int round = 0;; ++round) {
+    rows.clear();
+    for (uint32_t p = 0; p < np; ++p)
+      if (!free[p]) rows.push_back(all[2 * p]), rows.push_back(all[2 * p + 1]);
+    const Feasibility f = check_feasibility(uint32_t(meta.edges.size()), rows);
+    if (f.feasible) break;
+    if (round == 8 || f.forced_zero.empty()) {
+      fit.badness.assign(np, kWorst);
+      fit.misfit = kWorst;
+      return fit;
+    }
+    for (uint32_t e : f.forced_zero)
+      for (uint32_t p : {meta.edges[e].left, meta.edges[e].right})
+        if (p != kInvalid) free[p] = 1;
+  }
+  std::vector<double> c(meta.edges.size());
+  for (uint32_t e = 0; e < c.size(); ++e) c[e] = meta.edges[e].geodesic / h;
+  std::vector<double> area(np, 0.0);
+  const TriMesh& mesh = seg.refined.mesh;
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) area[seg.labels[f]] += mesh.face_area(f);
+  double total = 0;
+  for (double a : area) total += a;
+  fit.badness.assign(np, std::log(2.0));
+  std::vector<int64_t> x;
+  if (auto flow = solve_lengths_flow(c, rows)) {
+    x = std::move(flow->x);
+  } else {
+    try {
+      x = solve_lengths(c, rows, 2.0).x;
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::solver) throw;
+      return fit;
+    }
+  }
+  // Per patch, the absolute angle defects of the field surface's interior vertices inside it (the
+  // cut mesh keeps their ids; the vertices it adds are flat).
+  fit.bending.assign(np, 0.0);
+  fit.small.assign(np, 0);
+  const TriMesh& smooth = cf.surface;
+  std::vector<double> angle_sum(smooth.num_vertices(), 0.0);
+  for (uint32_t f = 0; f < smooth.num_faces(); ++f) {
+    const Tri& tri = smooth.face(f);
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 a = smooth.position(tri[(i + 1) % 3]) - smooth.position(tri[i]);
+      const Vec3 b = smooth.position(tri[(i + 2) % 3]) - smooth.position(tri[i]);
+      angle_sum[tri[i]] += std::atan2(norm(cross(a, b)), dot(a, b));
+    }
+  }
+  for (uint32_t v = 0; v < smooth.num_vertices(); ++v) {
+    if (smooth.is_boundary_vertex(v) || mesh.is_boundary_vertex(v)) continue;
+    uint32_t patch = kInvalid;
+    bool inside = true;
+    mesh.for_each_outgoing(v, [&](uint32_t he) {
+      const uint32_t l = seg.labels[TriMesh::face_of(he)];
+      if (patch == kInvalid) patch = l;
+      inside = inside && l == patch;
+    });
+    if (inside && patch != kInvalid) fit.bending[patch] += 2 * std::numbers::pi - angle_sum[v];
+  }
+  for (double& b : fit.bending) b = std::max(0.0, std::abs(b) / kBending - 1);
+  double sum = 0;
+  for (uint32_t p = 0; p < np; ++p) {
+    sum += area[p] * fit.bending[p];
+    if (!free[p]) {
+      double len[4] = {0, 0, 0, 0}, target[4] = {0, 0, 0, 0};
+      for (uint32_t i = 0; i < meta.faces[p].cycle.size(); ++i) {
+        const uint32_t e = meta.faces[p].cycle[i].edge;
+        len[sides[p][i]] += double(x[e]);
+        target[sides[p][i]] += c[e];
+      }
+      const double a = 0.5 * (target[0] + target[2]), b = 0.5 * (target[1] + target[3]);
+      fit.small[p] = std::min(a, b) < 1 || a * b < 2;
+      fit.badness[p] = a > 0 && b > 0 && len[0] > 0 && len[1] > 0
+                           ? std::min(kWorst, std::abs(std::log((len[0] / a) / (len[1] / b))))
+                           : kWorst;
+    }
+    sum += area[p] * fit.badness[p];
+  }
+  fit.misfit = total > 0 ? sum / total : 0;
+  return fit;
+}
+
+// The traces the coarse layout would delete first: those bounding small patches, then those
+// bounding patches whose charts are stretched by more than 1.5 (or have no corners), each
+// weighted by the patches' urgency times the share of their perimeter it bounds, heaviest first
+// (ties by trace id). A connection, a
+// feature or the boundary is never a candidate.
+std::vector<uint32_t> coarse_candidates(const Traced& t, const LayoutFit& fit) {
+  const MetaMesh& meta = t.out.seg.meta;
+  const auto& vt = t.vertex_traces;
+  auto traces_at = [&](uint32_t v) {
+    const auto lo = std::lower_bound(vt.begin(), vt.end(), std::make_pair(v, 0u));
+    std::vector<uint32_t> out;
+    for (auto it = lo; it != vt.end() && it->first == v; ++it) out.push_back(it->second);
+    return out;
+  };
+  // The trace a meta-edge lies on: the one every vertex of it lies on.
+  std::vector<uint32_t> edge_trace(meta.edges.size(), kInvalid);
+  for (uint32_t e = 0; e < meta.edges.size(); ++e) {
+    const MetaEdge& me = meta.edges[e];
+    if (me.feature || me.right == kInvalid || me.vertices.empty()) continue;
+    std::vector<uint32_t> common = traces_at(me.vertices.front());
+    for (std::size_t k = 1; k < me.vertices.size() && !common.empty(); ++k) {
+      const std::vector<uint32_t> here = traces_at(me.vertices[k]);
+      std::vector<uint32_t> both;
+      std::set_intersection(common.begin(), common.end(), here.begin(), here.end(),
+                            std::back_inserter(both));
+      common = std::move(both);
+    }
+    for (uint32_t id : common)
+      if (t.tr.traces[id].end != TraceEnd::node) {
+        edge_trace[e] = id;
+        break;
+      }
+  }
+  std::vector<double> weight(t.tr.traces.size(), 0.0);
+  for (uint32_t p = 0; p < meta.faces.size(); ++p) {
+    const bool small = p < fit.small.size() && fit.small[p];
+    const double urgency = small ? kWorst + fit.badness[p] : fit.badness[p];
+    if (urgency < std::log(1.5)) continue;
+    double perimeter = 0;
+    for (const BoundaryItem& it : meta.faces[p].cycle) perimeter += meta.edges[it.edge].geodesic;
+    if (!(perimeter > 0)) continue;
+    for (const BoundaryItem& it : meta.faces[p].cycle)
+      if (edge_trace[it.edge] != kInvalid)
+        weight[edge_trace[it.edge]] += urgency * meta.edges[it.edge].geodesic / perimeter;
+  }
+  std::vector<uint32_t> out;
+  for (uint32_t id = 0; id < weight.size(); ++id)
+    if (weight[id] > 0) out.push_back(id);
+  std::stable_sort(out.begin(), out.end(),
+                   [&](uint32_t a, uint32_t b) { return weight[a] > weight[b]; });
   return out;
+}
+
+bool same_ray(const RayId& a, const RayId& b) {
+  return a.vertex == b.vertex && a.face == b.face && a.arm == b.arm;
+}
+
+}  // namespace
+
+FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& feature, double h,
+                                FieldLayoutLog& log) {
+  auto t0 = Clock::now();
+  EdgeData<char> split_feature = feature;
+  const RefinedMesh base = split_constraint_conflicts(identity_refinement(mesh), split_feature);
+  CrossFieldOptions fo;
+  fo.edge_length = h;
+  const CrossField cf = compute_cross_field(base.mesh, split_feature, fo);
+  log.singularities = uint32_t(cf.singular.size());
+  log.field_seconds = seconds_since(t0);
+
+  TraceOptions to;
+  to.edge_length = h;
+  Traced best = trace_layout(base, cf, to, h, log);
+  if (!log.failure.empty()) return std::move(best.out);
+
+  // The coarse layout (FIELD_LAYOUT.md §5): traces bounding stretched patches are deleted, a
+  // batch at a time, while the layout's misfit drops; a batch that does not help is halved,
+  // and a single trace that does not help is kept for good.
+  t0 = Clock::now();
+  LayoutFit fit = layout_fit(best, cf, h);
+  log.misfit_traced = fit.misfit;
+  log.patches_traced = log.patches;
+  log.free_corner_patches_traced = log.free_corner_patches;
+  std::vector<RayId> kept;
+  std::size_t batch = 0;
+  for (uint32_t evaluation = 0; evaluation < kCoarseEvaluations && fit.misfit > 0; ++evaluation) {
+    std::vector<RayId> batch_rays;
+    for (uint32_t id : coarse_candidates(best, fit)) {
+      const Trace& t = best.tr.traces[id];
+      const RayId ray{t.source, t.first_face, t.first_arm};
+      const auto is = [&](const RayId& r) { return same_ray(r, ray); };
+      if (std::none_of(kept.begin(), kept.end(), is)) batch_rays.push_back(ray);
+    }
+    if (batch_rays.empty()) break;
+    if (batch == 0) batch = (batch_rays.size() + 1) / 2;
+    batch_rays.resize(std::min(batch, batch_rays.size()));
+    TraceOptions trial = to;
+    trial.removed.insert(trial.removed.end(), batch_rays.begin(), batch_rays.end());
+    FieldLayoutLog trial_log = log;
+    Traced next = trace_layout(base, cf, trial, h, trial_log);
+    ++log.coarse_evaluations;
+    LayoutFit next_fit;
+    if (trial_log.failure.empty()) next_fit = layout_fit(next, cf, h);
+    // Every patch stays four-cornered and a disk: no more patches left to the corner program
+    // or made disks by the repair than before.
+    const bool kept_shape = trial_log.free_corner_patches <= log.free_corner_patches &&
+                            trial_log.repaired_patches <= log.repaired_patches;
+    if (kept_shape && next_fit.misfit < fit.misfit - kCoarseGain) {
+      log.coarse_deleted += uint32_t(batch_rays.size());
+      trial_log.coarse_evaluations = log.coarse_evaluations;
+      trial_log.coarse_deleted = log.coarse_deleted;
+      log = trial_log;
+      to = std::move(trial);
+      best = std::move(next);
+      fit = std::move(next_fit);
+    } else if (batch > 1) {
+      batch = (batch + 1) / 2;
+    } else {
+      kept.push_back(batch_rays.front());
+    }
+  }
+  log.misfit = fit.misfit;
+  log.coarse_seconds = seconds_since(t0);
+  return std::move(best.out);
 }
 
 }  // namespace isoquad

@@ -17,6 +17,12 @@
 
 namespace isoquad {
 
+// Layouts the coarse layout traces at most, to choose the traces it deletes.
+inline constexpr uint32_t kCoarseEvaluations = 10;
+// By how much a deletion must lower the misfit to be kept: less is within what the later
+// stages (the quad count's tuning, refinement) move the quads by anyway.
+inline constexpr double kCoarseGain = 0.005;
+
 struct FieldLayoutLog {
   uint32_t singularities = 0;        // singular vertices of the field
   uint32_t nodes = 0, traces = 0;    // emitters and their traces
@@ -29,7 +35,12 @@ struct FieldLayoutLog {
   // had to split, merge or relabel: their corners are left to the layout's corner program.
   uint32_t repaired_patches = 0, free_corner_patches = 0;
   uint32_t angle_corner_patches = 0;  // patches whose corners were read from their angles
-  double field_seconds = 0, trace_seconds = 0, embed_seconds = 0;
+  // The coarse layout: rays deleted, layouts traced to choose them, and the misfit (the
+  // area-weighted mean |log| of the charts' stretch under the integer lengths) before and after.
+  uint32_t coarse_deleted = 0, coarse_evaluations = 0;
+  uint32_t patches_traced = 0, free_corner_patches_traced = 0;  // before the coarse layout
+  double misfit_traced = 0, misfit = 0;
+  double field_seconds = 0, trace_seconds = 0, embed_seconds = 0, coarse_seconds = 0;
   std::string failure;  // why the layout cannot be used (empty: it can)
 };
 

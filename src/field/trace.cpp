@@ -1040,6 +1040,32 @@ TraceResult trace_separatrices(const CrossField& cf, const TraceOptions& options
   // A ray a connection reaches is that connection: not traced on its own.
   std::vector<char> reached(rays.size(), 0), fixed(rays.size(), 0), deleted(rays.size(), 0);
   for (const Connection& c : connections) reached[c.ray_b] = fixed[c.ray_a] = 1;
+  // Deletes ray r unless it is a connection's or a neighbouring ray of its node is deleted (a
+  // sector of three quarter turns has no place in a quad layout).
+  auto delete_ray = [&](uint32_t r) {
+    if (fixed[r] || reached[r] || deleted[r]) return false;
+    const uint32_t n = ray_node[r];
+    uint32_t first = r, last = r;
+    while (first > 0 && ray_node[first - 1] == n) --first;
+    while (last + 1 < rays.size() && ray_node[last + 1] == n) ++last;
+    const uint32_t count = last - first + 1;
+    auto neighbour = [&](int step) -> uint32_t {
+      if (!interior[n]) {
+        const int64_t k = int64_t(r) + step;
+        return k < int64_t(first) || k > int64_t(last) ? kInvalid : uint32_t(k);
+      }
+      return first + uint32_t((int64_t(r - first) + step + count) % count);
+    };
+    const uint32_t before = neighbour(-1), after = neighbour(1);
+    if ((before != kInvalid && deleted[before]) || (after != kInvalid && deleted[after]))
+      return false;
+    deleted[r] = 1;
+    return true;
+  };
+  for (const RayId& id : options.removed)
+    for (uint32_t r = 0; r < rays.size(); ++r)
+      if (rays[r].vertex == id.vertex && rays[r].face == id.face && rays[r].arm == id.arm)
+        delete_ray(r);
   TraceResult result;
   for (uint32_t round = 0;; ++round) {
     Tracer tracer(cf, cap);
@@ -1058,29 +1084,11 @@ TraceResult trace_separatrices(const CrossField& cf, const TraceOptions& options
     if (round + 1 >= options.rounds || options.strip <= 0 || options.edge_length <= 0) break;
     const Strips strips = strip_traces(tracer, result, options.strip * options.edge_length,
                                        options.gap * options.edge_length);
-    // Delete where no two neighbouring rays of a node end up deleted (a sector of three quarter
-    // turns has no place in a quad layout); traces that bound a strip together lose one.
+    // Traces that bound a strip together lose one.
     bool any = false;
     std::vector<char> partner_gone(result.traces.size(), 0);
     for (uint32_t id : strips.drop) {
-      const uint32_t r = ray_of[id];
-      if (fixed[r] || partner_gone[id]) continue;
-      const uint32_t n = ray_node[r];
-      uint32_t first = r, last = r;
-      while (first > 0 && ray_node[first - 1] == n) --first;
-      while (last + 1 < rays.size() && ray_node[last + 1] == n) ++last;
-      const uint32_t count = last - first + 1;
-      auto neighbour = [&](int step) -> uint32_t {
-        if (!interior[n]) {
-          const int64_t k = int64_t(r) + step;
-          return k < int64_t(first) || k > int64_t(last) ? kInvalid : uint32_t(k);
-        }
-        return first + uint32_t((int64_t(r - first) + step + count) % count);
-      };
-      const uint32_t before = neighbour(-1), after = neighbour(1);
-      if ((before != kInvalid && deleted[before]) || (after != kInvalid && deleted[after]))
-        continue;
-      deleted[r] = 1;
+      if (partner_gone[id] || !delete_ray(ray_of[id])) continue;
       any = true;
       for (uint32_t other : strips.beside[id]) partner_gone[other] = 1;
     }

@@ -14,6 +14,13 @@
 
 namespace isoquad {
 
+// A ray of the field at a node: the vertex, the face it leaves into and the field's arm there
+// (Trace::source, first_face, first_arm of its trace).
+struct RayId {
+  uint32_t vertex = kInvalid, face = kInvalid;
+  int arm = 0;
+};
+
 struct TraceOptions {
   double edge_length = 0;  // h (mesh units); a trace is capped at min(200 h, 4 sqrt(area))
   // A separatrix passing within capture * h of another node, coming in along one of that
@@ -37,6 +44,9 @@ struct TraceOptions {
   // a patch no trace makes a disk (a handle, a tube), their traces close loops around it or
   // run from one seed to the other.
   std::vector<uint32_t> seeds;
+  // Rays deleted from the start (the coarse layout's choice, field_segment.hpp), under the same
+  // rule as the strip deletions: never two neighbouring rays of one node, never a connection.
+  std::vector<RayId> removed;
 };
 
 enum class TraceEnd {

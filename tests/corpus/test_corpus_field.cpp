@@ -12,6 +12,7 @@
 
 #include "corpus.hpp"
 #include "field/cross_field.hpp"
+#include "field/field_segment.hpp"
 #include "field/trace.hpp"
 #include "io/read_mesh.hpp"
 #include "layout/layout.hpp"
@@ -311,7 +312,8 @@ uint32_t expect_slid_only_over_short_edges(const ComponentRun& r) {
 // bunny00: with every node's rays counted as crossings, the traces' rules give nearly every
 // patch its four corners (at most 3 left to the corner ILP; with rays read per face sector, 9
 // patches of five or three corners, whose corners the ILP chose from their shapes: mean scaled
-// Jacobian 0.852 and 24% of the quads with aspect ratio above 2). Measured: 0.908 and 9.4%.
+// Jacobian 0.852 and 24% of the quads with aspect ratio above 2). Measured: 0.910 and 10.9%
+// (0.908 and 9.4% before the coarse layout deleted one trace).
 TEST(CorpusFieldLayout, TracedPatchesHaveTheirFourCornersFromTheTraces) {
   ISOQUAD_CORPUS_MESH(path, "bunny00.off");
   const ReadResult input = read_mesh(path);
@@ -325,7 +327,7 @@ TEST(CorpusFieldLayout, TracedPatchesHaveTheirFourCornersFromTheTraces) {
   EXPECT_EQ(q.sj_surface_nonpositive, 0u);
   EXPECT_EQ(q.sj_invalid, 0u);
   EXPECT_GT(q.sj_mean, 0.875);
-  EXPECT_LT(q.aspect_above_2, 10.0);  // percent
+  EXPECT_LT(q.aspect_above_2, 12.0);  // percent
 }
 
 // Cactus: its short creases, none sharper than 80 degrees on average, do not pin the field. When
@@ -348,12 +350,12 @@ TEST(CorpusFieldLayout, WeakShortCreasesDoNotPinTheField) {
   EXPECT_LT(q.hausdorff, 0.01);      // of the diagonal
 }
 
-// The double torus: the side equations of its traced corners admit no positive lengths (before,
-// E402 and VSA's patches); the layout slides only then, and only over meta-edges shorter than
-// a quad, where a trace stopped a fraction of a quad from a node or another trace's end (2
-// patches when measured).
+// three_peaks: the side equations of its traced corners admit no positive lengths; the layout
+// slides only then, and only over meta-edges shorter than a quad, where a trace stopped a
+// fraction of a quad from a node or another trace's end (2 patches when measured; the double
+// torus slid before the coarse layout took its short meta-edges away).
 TEST(CorpusFieldLayout, CornersSlideOverMetaEdgesShorterThanAQuad) {
-  ISOQUAD_CORPUS_MESH(path, "double-torus-example.off");
+  ISOQUAD_CORPUS_MESH(path, "three_peaks.off");
   const ReadResult input = read_mesh(path);
   const LaidOut field = remesh_with(input, "field");
   const ComponentRun& r = field.run.runs[0];
@@ -362,5 +364,52 @@ TEST(CorpusFieldLayout, CornersSlideOverMetaEdgesShorterThanAQuad) {
   EXPECT_TRUE(
       std::any_of(r.layout_report.repairs.begin(), r.layout_report.repairs.end(),
                   [](const std::string& s) { return s.find("slid") != std::string::npos; }));
-  EXPECT_GT(field.quality.sj_mean, 0.85);
+  EXPECT_GT(field.quality.sj_mean, 0.82);
+}
+
+class CorpusCoarseLayout : public testing::TestWithParam<const char*> {};
+
+// The coarse layout (FIELD_LAYOUT.md §5) deletes traces only where the layout's misfit drops by
+// kCoarseGain or more, and never leaves more patches without their four traced corners; it stops
+// within its budget of traced layouts.
+TEST_P(CorpusCoarseLayout, DeletesOnlyWhereTheMisfitDropsAndCornersStay) {
+  ISOQUAD_CORPUS_MESH(path, GetParam());
+  const PreparedMesh p = prepare(read_mesh(path).mesh);
+  const PreparedComponent& c = p.components.at(0);
+  FieldLayoutLog log;
+  const FieldSegmentation fs =
+      field_segment(c.mesh, c.feature, edge_length_for_quads(c.mesh, 1500), log);
+  ASSERT_TRUE(log.failure.empty()) << log.failure;
+  EXPECT_EQ(fs.corners.size(), log.patches);
+  EXPECT_LE(log.coarse_evaluations, kCoarseEvaluations);
+  EXPECT_LE(log.free_corner_patches, log.free_corner_patches_traced);
+  EXPECT_LE(log.misfit, log.misfit_traced);
+  if (log.coarse_deleted > 0)
+    EXPECT_LE(log.misfit, log.misfit_traced - kCoarseGain);
+  else
+    EXPECT_EQ(log.misfit, log.misfit_traced);
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusCoarseLayout,
+                         testing::Values("anchor.off", "fandisk.off", "nefertiti.off", "eight.off",
+                                         "three_peaks.off"),
+                         [](const testing::TestParamInfo<const char*>& info) {
+                           return test::corpus_case_name(info.param, 0);
+                         });
+
+// anchor: its traced layout has 120 patches, many of them strips and slivers between traces that
+// stop a fraction of a quad apart, whose meta-edges the integer lengths stretch to whole quads
+// (mean scaled Jacobian 0.680, 46.9% of the quads above aspect 2, 1.92% from the surface). The
+// coarse layout deletes their traces (37 rays, 87 patches when measured): 0.753, 20.1%, 1.26%.
+TEST(CorpusFieldLayout, CoarseLayoutMergesTheStripsOfTheAnchor) {
+  ISOQUAD_CORPUS_MESH(path, "anchor.off");
+  const ReadResult input = read_mesh(path);
+  const LaidOut field = remesh_with(input, "field");
+  const ComponentRun& r = field.run.runs[0];
+  ASSERT_TRUE(r.field_used) << r.field_log.failure;
+  EXPECT_GE(r.field_log.coarse_deleted, 10u);
+  EXPECT_LT(r.field_log.patches, r.field_log.patches_traced);
+  EXPECT_GT(field.quality.sj_mean, 0.72);
+  EXPECT_LT(field.quality.aspect_above_2, 30.0);  // percent
+  EXPECT_LT(field.quality.hausdorff, 0.015);      // of the diagonal
 }

@@ -285,6 +285,32 @@ TEST(Trace, LPlateConcaveCornerCutsItIntoThree) {
   }
 }
 
+// A ray the coarse layout removes is not traced and makes its node partial; of two neighbouring
+// rays of one node only the first goes (their sector would turn by three quarters).
+TEST(Trace, RemovedRaysAreNotTracedAndNeverTwoNeighbours) {
+  const PreparedComponent c =
+      prepared(grid_without([](uint32_t i, uint32_t j) { return i >= 6 && j >= 6; }));
+  const CrossField cf = field_of(c);
+  const TraceResult all = traces_of(cf, 0.1);
+  ASSERT_EQ(all.traces.size(), 2u);
+  std::vector<RayId> rays;
+  for (const Trace& t : all.traces) rays.push_back({t.source, t.first_face, t.first_arm});
+  TraceOptions o;
+  o.edge_length = 0.1;
+  o.removed = {rays[1]};
+  const TraceResult one = trace_separatrices(cf, o);
+  ASSERT_EQ(one.traces.size(), 1u);
+  EXPECT_EQ(one.traces[0].first_face, rays[0].face);
+  EXPECT_EQ(one.traces[0].first_arm, rays[0].arm);
+  EXPECT_EQ(one.deleted, 1u);
+  EXPECT_EQ(one.partial_nodes, std::vector<uint32_t>{rays[1].vertex});
+  o.removed = rays;
+  const TraceResult both = trace_separatrices(cf, o);
+  ASSERT_EQ(both.traces.size(), 1u);
+  EXPECT_EQ(both.deleted, 1u);
+  EXPECT_EQ(both.traces[0].first_face, rays[1].face);
+}
+
 TEST(Trace, SphereSeparatricesAllEndOnTracksOrSingularities) {
   const PreparedComponent c = prepared(test::icosphere(4));
   const CrossField cf = field_of(c);
