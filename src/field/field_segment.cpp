@@ -579,25 +579,49 @@ Traced trace_layout(const RefinedMesh& base, const CrossField& cf, TraceOptions 
 struct LayoutFit {
   double misfit = INFINITY;
   std::vector<double> badness;  // per patch, |log s|
-  std::vector<double> bending;  // per patch, by how much its total curvature passes kBending
+  std::vector<double> bending;  // per patch, by how much its net curvature passes kBending
   // Per patch with corners, 1 where it is narrower than a quad or smaller than two in its
   // targets: its meta-edges, stretched to whole quads, force their lengths on every patch the
   // strips through them cross (FIELD_LAYOUT.md §5: such traces are deleted first).
   std::vector<char> small;
 };
 
-// A patch whose total absolute Gaussian curvature (on the field's smoothed surface) passes this
-// cannot be mapped onto a rectangle without quads crowding where it bends (FIELD_LAYOUT.md §5:
-// near-developable patches). Each multiple beyond it counts in the misfit as a stretch of e.
+// A patch whose net Gaussian curvature (on the field's smoothed surface) passes this cannot be
+// mapped onto a rectangle without quads crowding where it bends (FIELD_LAYOUT.md §5:
+// near-developable patches; net rather than absolute, since a scan's noise adds up in |K|).
+// Each multiple beyond it counts in the misfit as a stretch of e.
 constexpr double kBending = std::numbers::pi / 3;
 
 constexpr double kWorst = 2.0794415416798357;  // log 8
 
-LayoutFit layout_fit(const Traced& t, const CrossField& cf, double h) {
+// The angle defect 2 pi - (sum of the corner angles) of every interior vertex of `mesh` (0 on
+// the boundary).
+std::vector<double> angle_defects(const TriMesh& mesh) {
+  std::vector<double> angles(mesh.num_vertices(), 0.0);
+  for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
+    const Tri& tri = mesh.face(f);
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 a = mesh.position(tri[(i + 1) % 3]) - mesh.position(tri[i]);
+      const Vec3 b = mesh.position(tri[(i + 2) % 3]) - mesh.position(tri[i]);
+      angles[tri[i]] += std::atan2(norm(cross(a, b)), dot(a, b));
+    }
+  }
+  for (uint32_t v = 0; v < mesh.num_vertices(); ++v)
+    angles[v] = mesh.is_boundary_vertex(v) ? 0 : 2 * std::numbers::pi - angles[v];
+  return angles;
+}
+
+// `defect`: angle_defects of the field's smoothed surface, whose vertices the cut mesh keeps (the
+// vertices it adds lie on edges or in faces, and are flat).
+LayoutFit layout_fit(const Traced& t, const std::vector<double>& defect, double h) {
   LayoutFit fit;
   const SegmentResult& seg = t.out.seg;
   const MetaMesh& meta = seg.meta;
   const uint32_t np = uint32_t(meta.faces.size());
+  // What a patch is where the lengths cannot be measured: the worst.
+  fit.badness.assign(np, kWorst);
+  fit.bending.assign(np, 0.0);
+  fit.small.assign(np, 0);
   std::vector<std::array<uint32_t, 4>> corners = t.out.corners;
   std::vector<char> free(np, 0);
   for (uint32_t p = 0; p < np; ++p) {
@@ -619,7 +643,6 @@ LayoutFit layout_fit(const Traced& t, const CrossField& cf, double h) {
     const Feasibility f = check_feasibility(uint32_t(meta.edges.size()), rows);
     if (f.feasible) break;
     if (round == 8 || f.forced_zero.empty()) {
-      fit.badness.assign(np, kWorst);
       fit.misfit = kWorst;
       return fit;
     }
@@ -646,22 +669,9 @@ LayoutFit layout_fit(const Traced& t, const CrossField& cf, double h) {
       return fit;
     }
   }
-  // Per patch, the absolute angle defects of the field surface's interior vertices inside it (the
-  // cut mesh keeps their ids; the vertices it adds are flat).
-  fit.bending.assign(np, 0.0);
-  fit.small.assign(np, 0);
-  const TriMesh& smooth = cf.surface;
-  std::vector<double> angle_sum(smooth.num_vertices(), 0.0);
-  for (uint32_t f = 0; f < smooth.num_faces(); ++f) {
-    const Tri& tri = smooth.face(f);
-    for (int i = 0; i < 3; ++i) {
-      const Vec3 a = smooth.position(tri[(i + 1) % 3]) - smooth.position(tri[i]);
-      const Vec3 b = smooth.position(tri[(i + 2) % 3]) - smooth.position(tri[i]);
-      angle_sum[tri[i]] += std::atan2(norm(cross(a, b)), dot(a, b));
-    }
-  }
-  for (uint32_t v = 0; v < smooth.num_vertices(); ++v) {
-    if (smooth.is_boundary_vertex(v) || mesh.is_boundary_vertex(v)) continue;
+  // Per patch, the angle defects of the interior vertices inside it.
+  for (uint32_t v = 0; v < defect.size(); ++v) {
+    if (defect[v] == 0 || mesh.is_boundary_vertex(v)) continue;
     uint32_t patch = kInvalid;
     bool inside = true;
     mesh.for_each_outgoing(v, [&](uint32_t he) {
@@ -669,7 +679,7 @@ LayoutFit layout_fit(const Traced& t, const CrossField& cf, double h) {
       if (patch == kInvalid) patch = l;
       inside = inside && l == patch;
     });
-    if (inside && patch != kInvalid) fit.bending[patch] += 2 * std::numbers::pi - angle_sum[v];
+    if (inside && patch != kInvalid) fit.bending[patch] += defect[v];
   }
   for (double& b : fit.bending) b = std::max(0.0, std::abs(b) / kBending - 1);
   double sum = 0;
@@ -729,8 +739,7 @@ std::vector<uint32_t> coarse_candidates(const Traced& t, const LayoutFit& fit) {
   }
   std::vector<double> weight(t.tr.traces.size(), 0.0);
   for (uint32_t p = 0; p < meta.faces.size(); ++p) {
-    const bool small = p < fit.small.size() && fit.small[p];
-    const double urgency = small ? kWorst + fit.badness[p] : fit.badness[p];
+    const double urgency = fit.small[p] ? kWorst + fit.badness[p] : fit.badness[p];
     if (urgency < std::log(1.5)) continue;
     double perimeter = 0;
     for (const BoundaryItem& it : meta.faces[p].cycle) perimeter += meta.edges[it.edge].geodesic;
@@ -745,10 +754,6 @@ std::vector<uint32_t> coarse_candidates(const Traced& t, const LayoutFit& fit) {
   std::stable_sort(out.begin(), out.end(),
                    [&](uint32_t a, uint32_t b) { return weight[a] > weight[b]; });
   return out;
-}
-
-bool same_ray(const RayId& a, const RayId& b) {
-  return a.vertex == b.vertex && a.face == b.face && a.arm == b.arm;
 }
 
 }  // namespace
@@ -773,19 +778,22 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
   // batch at a time, while the layout's misfit drops; a batch that does not help is halved,
   // and a single trace that does not help is kept for good.
   t0 = Clock::now();
-  LayoutFit fit = layout_fit(best, cf, h);
+  const std::vector<double> defect = angle_defects(cf.surface);
+  LayoutFit fit = layout_fit(best, defect, h);
   log.misfit_traced = fit.misfit;
   log.patches_traced = log.patches;
   log.free_corner_patches_traced = log.free_corner_patches;
-  std::vector<RayId> kept;
+  auto ray_of = [](const Trace& t) { return RayId{t.source, t.first_face, t.first_arm}; };
+  std::vector<RayId> refused;  // single rays whose deletion did not help: not tried again
   std::size_t batch = 0;
-  for (uint32_t evaluation = 0; evaluation < kCoarseEvaluations && fit.misfit > 0; ++evaluation) {
+  for (uint32_t evaluation = 0;
+       evaluation < kCoarseEvaluations && std::isfinite(fit.misfit) && fit.misfit > 0;
+       ++evaluation) {
     std::vector<RayId> batch_rays;
     for (uint32_t id : coarse_candidates(best, fit)) {
-      const Trace& t = best.tr.traces[id];
-      const RayId ray{t.source, t.first_face, t.first_arm};
-      const auto is = [&](const RayId& r) { return same_ray(r, ray); };
-      if (std::none_of(kept.begin(), kept.end(), is)) batch_rays.push_back(ray);
+      const RayId ray = ray_of(best.tr.traces[id]);
+      if (std::find(refused.begin(), refused.end(), ray) == refused.end())
+        batch_rays.push_back(ray);
     }
     if (batch_rays.empty()) break;
     if (batch == 0) batch = (batch_rays.size() + 1) / 2;
@@ -796,13 +804,16 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
     Traced next = trace_layout(base, cf, trial, h, trial_log);
     ++log.coarse_evaluations;
     LayoutFit next_fit;
-    if (trial_log.failure.empty()) next_fit = layout_fit(next, cf, h);
+    if (trial_log.failure.empty()) next_fit = layout_fit(next, defect, h);
     // Every patch stays four-cornered and a disk: no more patches left to the corner program
     // or made disks by the repair than before.
     const bool kept_shape = trial_log.free_corner_patches <= log.free_corner_patches &&
                             trial_log.repaired_patches <= log.repaired_patches;
     if (kept_shape && next_fit.misfit < fit.misfit - kCoarseGain) {
-      log.coarse_deleted += uint32_t(batch_rays.size());
+      // The rays of the batch that are gone (the rule of neighbouring rays may keep some).
+      for (const RayId& ray : batch_rays)
+        log.coarse_deleted += std::none_of(next.tr.traces.begin(), next.tr.traces.end(),
+                                           [&](const Trace& t) { return ray_of(t) == ray; });
       trial_log.coarse_evaluations = log.coarse_evaluations;
       trial_log.coarse_deleted = log.coarse_deleted;
       log = trial_log;
@@ -812,7 +823,7 @@ FieldSegmentation field_segment(const TriMesh& mesh, const EdgeData<char>& featu
     } else if (batch > 1) {
       batch = (batch + 1) / 2;
     } else {
-      kept.push_back(batch_rays.front());
+      refused.push_back(batch_rays.front());
     }
   }
   log.misfit = fit.misfit;

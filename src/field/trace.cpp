@@ -1064,8 +1064,7 @@ TraceResult trace_separatrices(const CrossField& cf, const TraceOptions& options
   };
   for (const RayId& id : options.removed)
     for (uint32_t r = 0; r < rays.size(); ++r)
-      if (rays[r].vertex == id.vertex && rays[r].face == id.face && rays[r].arm == id.arm)
-        delete_ray(r);
+      if (RayId{rays[r].vertex, rays[r].face, rays[r].arm} == id) delete_ray(r);
   TraceResult result;
   for (uint32_t round = 0;; ++round) {
     Tracer tracer(cf, cap);

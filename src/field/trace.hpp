@@ -19,6 +19,7 @@ namespace isoquad {
 struct RayId {
   uint32_t vertex = kInvalid, face = kInvalid;
   int arm = 0;
+  bool operator==(const RayId&) const = default;
 };
 
 struct TraceOptions {
