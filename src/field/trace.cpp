@@ -306,6 +306,13 @@ struct FacePiece {
   P2 from, to;
 };
 
+// A step shorter than this fraction of the cap gets nowhere; this many in a row (more faces than a
+// vertex's one-ring has, but for a degenerate fan) end the trace.
+constexpr double kStalledStep = 1e-9;
+constexpr uint32_t kStalledSteps = 16;
+// A trace that crosses one face this many times runs in a limit cycle: it ends as capped.
+constexpr uint32_t kMostVisits = 8;
+
 struct Tracer {
   const CrossField& cf;
   const TriMesh& m;
@@ -326,8 +333,10 @@ struct Tracer {
     bool straight = false;
     P2 direction;
     uint32_t steps = 0;
+    uint32_t stalled = 0;  // consecutive steps shorter than kStalledStep * cap
   };
   std::vector<State> state;
+  std::unordered_map<uint64_t, uint32_t> visits;  // (trace << 32 | face) -> crossings
   TraceResult result;
   // False: every trace runs as if alone (no crossing, no head-on join), to see where its
   // separatrix goes.
@@ -590,9 +599,18 @@ struct Tracer {
              m.twin(h) == kInvalid ? TraceEnd::boundary : TraceEnd::feature);
       return false;
     }
-    // The cap, or a trace that keeps crossing faces without getting anywhere (zero-length steps
-    // back and forth at a degenerate spot).
-    if (st.arc > cap || ++st.steps > 2 * m.num_faces()) {
+    // A trace that has run onto a vertex circles its one-ring in steps of zero length (the exits
+    // are clamped off the corners): it ends there, a sink, after more steps than a one-ring has.
+    st.stalled = t > kStalledStep * cap ? 0 : st.stalled + 1;
+    if (st.stalled > kStalledSteps) {
+      finish(id, f, q, edge_point(h, s), TraceEnd::sink);
+      return false;
+    }
+    // The cap, or a trace caught in a limit cycle (a face crossed kMostVisits times: round a
+    // vortex the field makes at a sharp tip, a closed streamline, a spiral), or one that keeps
+    // crossing faces without getting anywhere. Either is deleted before the next round.
+    if (st.arc > cap || ++st.steps > 2 * m.num_faces() ||
+        ++visits[(uint64_t(id) << 32) | f] >= kMostVisits) {
       finish(id, f, q, edge_point(h, s), TraceEnd::cap);
       return false;
     }

@@ -115,6 +115,26 @@ TEST_P(CorpusField, EveryInteriorNodeEmitsTheRaysItsIndexCounts) {
   EXPECT_LE(r.ray_mismatches, whole_turns);
 }
 
+// A trace that runs onto a vertex circles its one-ring in steps of zero length, and one caught in
+// a limit cycle (round the vortex the cow's field makes at a sharp tip) goes round and round: the
+// first ends there as a sink, the second as capped once it crosses a face the eighth time. Before,
+// the first circled for two steps per face of the surface (47,000 on the cow's subdivided surface,
+// each scanning the segments left in the faces around: 17 of the 18 s its coarse layout took), the
+// second until it was 141 h long.
+TEST_P(CorpusField, NoTraceGoesRoundInCircles) {
+  ISOQUAD_CORPUS_MESH(path, GetParam());
+  const Field field = field_of(prepare(read_mesh(path).mesh));
+  TraceOptions o;
+  o.edge_length = edge_length_for_quads(field.refined.mesh, 1500);
+  const TraceResult r = trace_separatrices(field.cf, o);
+  for (uint32_t id = 0; id < r.traces.size(); ++id) {
+    std::unordered_map<uint32_t, uint32_t> visits;
+    uint32_t most = 0;
+    for (uint32_t f : r.traces[id].faces) most = std::max(most, ++visits[f]);
+    EXPECT_LE(most, 8u) << "trace " << id << " from vertex " << r.traces[id].source;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Corpus, CorpusField, testing::ValuesIn(test::kCorpusMeshes),
                          [](const testing::TestParamInfo<const char*>& info) {
                            return test::corpus_case_name(info.param, 0);
