@@ -499,9 +499,8 @@ Traced trace_layout(const RefinedMesh& base, const CrossField& cf, TraceOptions 
   // corners (between two traces that nearly met) are made disks as VSA's are.
   const FaceData<uint32_t> labels_traced = seg.labels;
   const uint32_t traced_patches = seg.num_patches;
-  DiskRepairLog repair;
   try {
-    seg.num_patches = make_disk_patches(cut, seg.labels, repair);
+    seg.num_patches = make_disk_patches(cut, seg.labels, seg.repair);
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::unsupported_topology) throw;
     log.failure = fmt::format("the traced patches cannot be made disks: {}", e.what());

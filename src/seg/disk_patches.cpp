@@ -213,6 +213,33 @@ bool two_path_cut(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint
   return true;
 }
 
+// A hole of patch p that one other patch fills entirely (an island: a disk whose whole boundary is
+// that hole's loop) joins p. Where the ring round an island is too narrow for two cuts, p becomes
+// a disk this way. True if an island was merged.
+bool merge_island(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint32_t n) {
+  const auto topo = patch_topology(m, labels, n);
+  for (const auto& loop : loops_of(m, labels, p)) {
+    uint32_t q = kInvalid;
+    bool single = true;
+    for (uint32_t h : loop) {
+      const uint32_t t = m.twin(h);
+      const uint32_t across = t == kInvalid ? kInvalid : labels[TriMesh::face_of(t)];
+      if (across == kInvalid || (q != kInvalid && across != q)) {
+        single = false;
+        break;
+      }
+      q = across;
+    }
+    if (!single || q == kInvalid || !topo[q].is_disk() ||
+        topo[q].boundary_edges != uint32_t(loop.size()))
+      continue;
+    for (uint32_t& l : labels)
+      if (l == q) l = p;
+    return true;
+  }
+  return false;
+}
+
 // Geodesic Voronoi split of patch p into k cells seeded by farthest-point sampling on the dual
 // graph; accepted for the first k whose cells are all disks.
 bool voronoi_split(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint32_t& n) {
@@ -278,6 +305,11 @@ uint32_t make_disk_patches(const TriMesh& m, FaceData<uint32_t>& labels, DiskRep
         ++log.two_path_cuts;
         changed = true;
         continue;
+      }
+      if (topo[p].boundary_loops >= 2 && merge_island(m, labels, p, n)) {
+        ++log.islands_merged;
+        changed = true;
+        break;  // the labels changed under topo
       }
       if (!voronoi_split(m, labels, p, n))
         throw Error(

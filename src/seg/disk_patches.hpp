@@ -16,6 +16,7 @@ struct DiskRepairLog {
   uint32_t voronoi_splits = 0;      // non-disk patches split into disks by geodesic Voronoi cells
   uint32_t two_path_cuts = 0;       // patches with holes cut along two paths
   uint32_t tiny_merged = 0;         // patches too small for four corners, merged into a neighbour
+  uint32_t islands_merged = 0;      // disks inside a hole of a patch (a narrow ring round them)
   uint32_t rounds = 0;
 };
 

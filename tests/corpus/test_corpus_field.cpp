@@ -387,6 +387,23 @@ TEST(CorpusFieldLayout, CornersSlideOverMetaEdgesShorterThanAQuad) {
   EXPECT_GT(field.quality.sj_mean, 0.82);
 }
 
+// The armadillo's traces leave a patch that is a narrow ring round an island patch (the loop of
+// a trace closing on itself round a small region): too narrow for the two-path cut, and the
+// Voronoi split, seeded along the ring's long tail, kept a ring. The island joins the ring, and
+// every patch is a disk.
+TEST(CorpusFieldLayout, AnIslandInANarrowRingJoinsIt) {
+  ISOQUAD_CORPUS_MESH(path, "armadillo.off");
+  const PreparedMesh p = prepare(read_mesh(path).mesh);
+  const PreparedComponent& c = p.components.at(0);
+  FieldLayoutLog log;
+  const FieldSegmentation fs =
+      field_segment(c.mesh, c.feature, edge_length_for_quads(c.mesh, 1500), log);
+  ASSERT_TRUE(log.failure.empty()) << log.failure;
+  EXPECT_GE(fs.seg.repair.islands_merged, 1u);
+  const auto topo = patch_topology(fs.seg.refined.mesh, fs.seg.labels, fs.seg.num_patches);
+  for (uint32_t q = 0; q < topo.size(); ++q) EXPECT_TRUE(topo[q].is_disk()) << "patch " << q;
+}
+
 class CorpusCoarseLayout : public testing::TestWithParam<const char*> {};
 
 // The coarse layout (FIELD_LAYOUT.md §5) deletes traces only where the layout's misfit drops by
