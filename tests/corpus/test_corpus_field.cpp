@@ -9,6 +9,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <string>
 
 #include "corpus.hpp"
 #include "field/cross_field.hpp"
@@ -387,17 +388,25 @@ TEST(CorpusFieldLayout, CornersSlideOverMetaEdgesShorterThanAQuad) {
   EXPECT_GT(field.quality.sj_mean, 0.82);
 }
 
+namespace {
+
+// The field-aligned patches of a corpus mesh's first component at the size of 1,500 quads.
+FieldSegmentation field_layout_at_1500(const std::string& path, FieldLayoutLog& log) {
+  const PreparedMesh p = prepare(read_mesh(path).mesh);
+  const PreparedComponent& c = p.components.at(0);
+  return field_segment(c.mesh, c.feature, edge_length_for_quads(c.mesh, 1500), log);
+}
+
+}  // namespace
+
 // The armadillo's traces leave a patch that is a narrow ring round an island patch (the loop of
 // a trace closing on itself round a small region): too narrow for the two-path cut, and the
 // Voronoi split, seeded along the ring's long tail, kept a ring. The island joins the ring, and
 // every patch is a disk.
 TEST(CorpusFieldLayout, AnIslandInANarrowRingJoinsIt) {
   ISOQUAD_CORPUS_MESH(path, "armadillo.off");
-  const PreparedMesh p = prepare(read_mesh(path).mesh);
-  const PreparedComponent& c = p.components.at(0);
   FieldLayoutLog log;
-  const FieldSegmentation fs =
-      field_segment(c.mesh, c.feature, edge_length_for_quads(c.mesh, 1500), log);
+  const FieldSegmentation fs = field_layout_at_1500(path, log);
   ASSERT_TRUE(log.failure.empty()) << log.failure;
   EXPECT_GE(fs.seg.repair.islands_merged, 1u);
   const auto topo = patch_topology(fs.seg.refined.mesh, fs.seg.labels, fs.seg.num_patches);
@@ -411,11 +420,8 @@ class CorpusCoarseLayout : public testing::TestWithParam<const char*> {};
 // within its budget of traced layouts.
 TEST_P(CorpusCoarseLayout, DeletesOnlyWhereTheMisfitDropsAndCornersStay) {
   ISOQUAD_CORPUS_MESH(path, GetParam());
-  const PreparedMesh p = prepare(read_mesh(path).mesh);
-  const PreparedComponent& c = p.components.at(0);
   FieldLayoutLog log;
-  const FieldSegmentation fs =
-      field_segment(c.mesh, c.feature, edge_length_for_quads(c.mesh, 1500), log);
+  const FieldSegmentation fs = field_layout_at_1500(path, log);
   ASSERT_TRUE(log.failure.empty()) << log.failure;
   EXPECT_EQ(fs.corners.size(), log.patches);
   EXPECT_LE(log.coarse_evaluations, kCoarseEvaluations);
