@@ -336,7 +336,6 @@ struct Tracer {
     uint32_t stalled = 0;  // consecutive steps shorter than kStalledStep * cap
   };
   std::vector<State> state;
-  std::unordered_map<uint64_t, uint32_t> visits;  // (trace << 32 | face) -> crossings
   TraceResult result;
   // False: every trace runs as if alone (no crossing, no head-on join), to see where its
   // separatrix goes.
@@ -568,6 +567,13 @@ struct Tracer {
     return false;
   }
 
+  // How often trace id has crossed face f: its segments there.
+  uint32_t crossings(uint32_t id, uint32_t f) const {
+    const auto& in = face_segments[f];
+    return uint32_t(std::count_if(in.begin(), in.end(),
+                                  [&](uint32_t sid) { return segments[sid].trace == id; }));
+  }
+
   // Advances trace id through its current face; false when it ends there.
   bool step(uint32_t id) {
     State& st = state[id];
@@ -609,8 +615,7 @@ struct Tracer {
     // The cap, or a trace caught in a limit cycle (a face crossed kMostVisits times: round a
     // vortex the field makes at a sharp tip, a closed streamline, a spiral), or one that keeps
     // crossing faces without getting anywhere. Either is deleted before the next round.
-    if (st.arc > cap || ++st.steps > 2 * m.num_faces() ||
-        ++visits[(uint64_t(id) << 32) | f] >= kMostVisits) {
+    if (st.arc > cap || ++st.steps > 2 * m.num_faces() || crossings(id, f) >= kMostVisits) {
       finish(id, f, q, edge_point(h, s), TraceEnd::cap);
       return false;
     }
