@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "extract/extract.hpp"
 #include "layout/meta_mesh.hpp"
@@ -32,7 +33,8 @@ struct SnapReport {
   uint32_t tips = 0;     // surface vertices farther than `far` from the quads, before
   uint32_t gaps = 0;     // quads with a triangle centroid farther than `far` from the surface
   uint32_t snapped = 0;  // moves taken
-  uint32_t left = 0;     // tips still farther than `far` after
+  std::vector<uint32_t> moved;  // the vertices moved, in order (a vertex once per move)
+  uint32_t left = 0;            // tips still farther than `far` after
   double farthest_before = 0, farthest_after = 0;  // largest surface-vertex distance (mesh units)
   double seconds = 0;
 };

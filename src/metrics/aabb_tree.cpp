@@ -131,6 +131,38 @@ AabbTree::Hit AabbTree::closest(const Vec3& p) const {
   return best;
 }
 
+double AabbTree::distance(const Vec3& p, uint32_t hint) const {
+  double best2 = INFINITY;
+  if (hint < tris_.size()) {
+    const auto& t = tris_[hint];
+    best2 = squared_norm(closest_point_on_triangle(p, t[0], t[1], t[2]) - p);
+  }
+  std::array<uint32_t, 128> stack;
+  std::size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (box_distance2(node.box, p) >= best2) continue;
+    if (node.leaf) {
+      for (uint32_t i = node.left; i < node.right; ++i) {
+        const auto& t = tris_[order_[i]];
+        best2 = std::min(best2, squared_norm(closest_point_on_triangle(p, t[0], t[1], t[2]) - p));
+      }
+      continue;
+    }
+    const double dl = box_distance2(nodes_[node.left].box, p);
+    const double dr = box_distance2(nodes_[node.right].box, p);
+    if (dl <= dr) {
+      stack[top++] = node.right;
+      stack[top++] = node.left;
+    } else {
+      stack[top++] = node.left;
+      stack[top++] = node.right;
+    }
+  }
+  return std::sqrt(best2);
+}
+
 Vec3 AabbTree::normal_at_closest(const Vec3& p, uint32_t hint) const {
   // One search for the closest distance d and every triangle within d + tol of p: the bound
   // shrinks as closer triangles are found, candidates beyond it are dropped at the end.

@@ -30,6 +30,8 @@ class AabbTree {
   // \pre at least one triangle.
   static constexpr uint32_t kNoTriangle = 0xffffffffu;
   Vec3 normal_at_closest(const Vec3& p, uint32_t hint = kNoTriangle) const;
+  // The distance from p to the closest triangle, as closest(p).distance; `hint` as above.
+  double distance(const Vec3& p, uint32_t hint) const;
   const std::vector<std::array<Vec3, 3>>& triangles() const { return tris_; }
 
  private:
