@@ -38,11 +38,12 @@ void add_remesh_options(CLI::App& app, RemeshArgs& args) {
                 "Refine the corners patch by patch against the relaxed length program (default; "
                 "--no-improve-corners keeps the corner ILP's choice: faster, more stretched "
                 "quads)");
-  sub->add_option("--smooth", a->smooth,
-                  "Tangential smoothing sweeps after the fold repairs, vertices kept on the input "
-                  "surface; a move is taken only if no quad around the vertex gets below a scaled "
-                  "Jacobian of min(its value, 0.2), against its own or the surface's normal, so no "
-                  "quad folds (default 0: the quads as the repairs left them)")
+  sub->add_option(
+         "--smooth", a->smooth,
+         "Tangential smoothing sweeps, the last pass, vertices kept on the input surface; a "
+         "move is taken only if no quad around the vertex gets below a scaled Jacobian of "
+         "min(its value, 0.2), against its own or the surface's normal, and no distance "
+         "between the quads and the surface grows beyond max(its value, 0.1 h); 0: off")
       ->capture_default_str();
   sub->add_flag("--split-patches", a->split_patches,
                 "Split every patch into four-sided ones before the layout (the paper's section 5 "

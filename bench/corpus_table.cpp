@@ -86,7 +86,8 @@ void print_row(const std::string& mesh, const isoquad::QualityReport& q, double 
 int main(int argc, char** argv) {
   CLI::App app("Remesh the corpus and print the quality table");
   double quads = 0, tolerance = isoquad::RemeshOptions{}.tolerance;
-  uint32_t repeat = 1, fold_rounds = isoquad::RemeshOptions{}.fold_rounds;
+  uint32_t repeat = 1, fold_rounds = isoquad::RemeshOptions{}.fold_rounds,
+           smooth = isoquad::RemeshOptions{}.smooth;
   std::string segmentation = isoquad::RemeshOptions{}.segmentation, json_path;
   std::vector<std::string> only;
   app.add_option("--quads", quads, "Target quad count (default: each mesh's default size)");
@@ -97,6 +98,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1u, 50u))
       ->capture_default_str();
   app.add_option("--fold-rounds", fold_rounds, "Rounds of more quads where quads still fold")
+      ->capture_default_str();
+  app.add_option("--smooth", smooth,
+                 "Tangential smoothing sweeps after extraction (remesh --smooth)")
       ->capture_default_str();
   app.add_option("--tolerance", tolerance,
                  "At the default size: more quads while farther than this fraction of the "
@@ -137,6 +141,7 @@ int main(int argc, char** argv) {
       o.segmentation = segmentation;
       o.quality = false;
       o.fold_rounds = fold_rounds;
+      o.smooth = smooth;
       o.tolerance = tolerance;
       std::vector<double> seconds;
       isoquad::PolyRemesh result;
@@ -189,6 +194,7 @@ int main(int argc, char** argv) {
                                 {"segmentation", segmentation},
                                 {"repeat", repeat},
                                 {"fold_rounds", fold_rounds},
+                                {"smooth", smooth},
                                 {"tolerance", tolerance}}},
                               {"meshes", meshes},
                               {"totals",

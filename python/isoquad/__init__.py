@@ -145,7 +145,7 @@ def _choice(name, value, choices):
 
 def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weights="smvc",
            relax="adaptive", segmentation="vsa", corners="global", improve_corners=True,
-           feature_angle=60.0, repair=False, weld_eps=0.0, weld_all=False, smooth=0,
+           feature_angle=60.0, repair=False, weld_eps=0.0, weld_all=False, smooth=None,
            untangle=True, snap=True, fold_rounds=2, split_patches=False, tip_split=True,
            refine=True, patch_rounds=True, misfit_split=True, tolerance=0.0, tolerance_rounds=2,
            allow_topology_change=False, threads=0, quality=True, progress=None):
@@ -180,7 +180,7 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
       patch_rounds     run again with 1.5 and 2 times the automatic patch count
       misfit_split     cut the patches no rectangle fits in two where quads still fold
       fold_rounds      rounds of more quads across patches still folded (default 2)
-      smooth           tangential smoothing sweeps after the repairs (default 0)
+      smooth           tangential smoothing sweeps, the last pass (default 0: off)
       tolerance        at the default size: more quads while the quads are farther than
                        this fraction of the diagonal (0: off, the default)
       tolerance_rounds how often at most tolerance asks for more quads (default 2)
@@ -227,7 +227,8 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
     o.repair = bool(repair)
     o.weld_epsilon = float(weld_eps)
     o.weld_all = bool(weld_all)
-    o.smooth = _count("smooth", smooth)
+    if smooth is not None:
+        o.smooth = _count("smooth", smooth)
     o.untangle = bool(untangle)
     o.snap = bool(snap)
     o.fold_rounds = _count("fold_rounds", fold_rounds)

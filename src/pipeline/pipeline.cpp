@@ -171,25 +171,15 @@ SizeRound measure_run(const ComponentRun& run, const AabbTree& surface, double d
   return SizeRound{run.quads.quads.size(), d / diagonal, run.untangle_report.nonpositive};
 }
 
-// The last touches, on quads the fold repairs kept (of run's layout and map, on run.surface).
-// Smoothing, guarded against the surface normal too, so it folds no quad: what the repairs
-// leave folded stays as it is, and no more. Before untangling, guarded by the quads' own normals
-// only, it left the anchor at the default size with a folded quad; after the tip snapping it
-// would pull corners off the tips. Then the tips the quads cut off (only moves that make no
-// fold).
-void finish_quads(const PipelineOptions& o, ComponentRun& run, QuadMesh& quads,
-                  SmoothReport& smooth, SnapReport& snap) {
+// The last touch of every extraction, on quads the fold repairs kept (of run's layout and map,
+// on run.surface): the tips the quads cut off are snapped onto (only moves that make no fold).
+void finish_quads(const PipelineOptions& o, ComponentRun& run, QuadMesh& quads, SnapReport& snap) {
+  if (!o.snap) return;
   const auto t0 = Clock::now();
-  const TriMesh& surface = run.surface.mesh;
-  if (o.smooth > 0) {
-    smooth = {};
-    smooth_quads(quads, surface, run.seg.meta, o.smooth, smooth, &surface_tree(run));
-  }
-  if (o.snap) {
-    SnapOptions so;
-    so.edge_length = run.layout.edge_length;
-    snap_tips(quads, surface, run.seg.refined.mesh, run.seg.meta, so, snap, &surface_tree(run));
-  }
+  SnapOptions so;
+  so.edge_length = run.layout.edge_length;
+  snap_tips(quads, run.surface.mesh, run.seg.refined.mesh, run.seg.meta, so, snap,
+            &surface_tree(run));
   run.extract_seconds += seconds_since(t0);
 }
 
@@ -551,7 +541,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       if (!keep) undo_try(before);
     }
   }
-  finish_quads(o, run, run.quads, run.smooth_report, run.snap_report);
+  finish_quads(o, run, run.quads, run.snap_report);
   to_component_points();
 }
 
@@ -719,7 +709,6 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
     QuadMesh quads;
     ExtractReport extract;
     UntangleReport untangle;
-    SmoothReport smooth;
     SnapReport snap;
   };
   std::optional<Kept> best;  // the round to keep
@@ -804,9 +793,8 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
       done.emplace(std::move(finer), std::move(finer_placed));
     }
     if (!done) break;
-    SmoothReport smooth_report;
     SnapReport snap_report;
-    finish_quads(o, run, quads, smooth_report, snap_report);
+    finish_quads(o, run, quads, snap_report);
     d = surface_distance(fan_triangles(quads), tree, measure.samples, measure.seed);
     rounds.push_back({uint32_t(std::count(marks.begin(), marks.end(), 1)),
                       {quads.quads.size(), d.max / diagonal, untangle_report.nonpositive}});
@@ -830,7 +818,6 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
                   quads,
                   extract_report,
                   untangle_report,
-                  smooth_report,
                   snap_report};
       if (run.subdivisions > 0)
         for (SurfacePoint& p : best->quads.surface) p = to_component(run.surface, p);
@@ -844,7 +831,6 @@ void refine_far(const PipelineOptions& o, double diagonal, ComponentRun& run) {
     run.quads = std::move(best->quads);
     run.extract_report = std::move(best->extract);
     run.untangle_report = std::move(best->untangle);
-    run.smooth_report = best->smooth;
     run.snap_report = best->snap;
   }
   run.extract_seconds = seconds_before + seconds_since(t0);
@@ -969,9 +955,28 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
   return run;
 }
 
-}  // namespace
+// The last pass of a component, on the quads every pass before kept: `o.smooth` sweeps of
+// tangential smoothing on the component's surface (extract/smooth.hpp), guarded so that no quad
+// ends below min(its scaled Jacobian before, 0.2), against its own normal or the surface's, and
+// no distance between the quads and the surface grows beyond max(before, 0.1 h); the corners
+// the tip snapping moved stay on their tips. Last, so that it changes no decision of
+// the passes before (which measure folds and distances on the quads as extracted).
+void smooth_last(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o,
+                 ComponentRun& run) {
+  if (o.smooth == 0 || o.last != Stage::extract || run.triangle_split || run.quads.quads.empty())
+    return;
+  const auto t0 = Clock::now();
+  const TriMesh& mesh = prep.components.at(c).mesh;
+  const AabbTree tree(face_triangles(mesh));
+  SmoothOptions so;
+  so.iterations = o.smooth;
+  so.edge_length = run.layout.edge_length;
+  smooth_quads(run.quads, mesh, run.seg.meta, so, run.smooth_report, &tree, run.snap_report.moved);
+  run.extract_seconds += seconds_since(t0);
+}
 
-ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
+ComponentRun run_component_unsmoothed(const PreparedMesh& prep, uint32_t c,
+                                      const PipelineOptions& o) {
   const TriMesh& mesh = prep.components.at(c).mesh;
   if (mesh.num_faces() < kTriangleSplitBelowFaces) {
     ComponentRun small;
@@ -1024,6 +1029,14 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   unkept.charge(run);
   run.size_rounds = std::move(rounds);
   run.size_round_kept = kept;
+  return run;
+}
+
+}  // namespace
+
+ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
+  ComponentRun run = run_component_unsmoothed(prep, c, o);
+  smooth_last(prep, c, o, run);
   return run;
 }
 
