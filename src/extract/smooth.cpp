@@ -20,11 +20,19 @@ void smooth_quads(QuadMesh& qm, const TriMesh& base, const MetaMesh& meta, const
   SurfaceGuard guard(qm, base, surface_tree ? *surface_tree : *own_tree, o.far * o.edge_length,
                      o.min_sj);
   const uint32_t n = uint32_t(qm.positions.size());
+  // Held: meta-vertices on the boundary or at an end of a crease or boundary meta-edge, and
+  // the vertices along such meta-edges. Other meta-vertices (the field's singularities, the
+  // layout's junctions) move like any vertex: nothing but the map put them where they are.
+  std::vector<char> held(meta.vertices.size(), 0);
+  for (uint32_t m = 0; m < meta.vertices.size(); ++m) held[m] = meta.vertices[m].on_boundary;
+  for (const MetaEdge& e : meta.edges)
+    if (e.feature || e.right == kInvalid) held[e.mv0] = held[e.mv1] = 1;
   std::vector<char> fixed(n, 0);
   for (uint32_t v = 0; v < n; ++v) {
-    const uint32_t e = qm.vertex_meta_edge[v];
-    fixed[v] = qm.vertex_meta_vertex[v] != kInvalid ||
-               (e != kInvalid && (meta.edges[e].feature || meta.edges[e].right == kInvalid));
+    const uint32_t m = qm.vertex_meta_vertex[v], e = qm.vertex_meta_edge[v];
+    fixed[v] = m != kInvalid
+                   ? held[m]
+                   : e != kInvalid && (meta.edges[e].feature || meta.edges[e].right == kInvalid);
   }
   for (const uint32_t v : pinned) fixed.at(v) = 1;
   std::vector<std::vector<uint32_t>> nbr(n);

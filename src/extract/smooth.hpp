@@ -1,8 +1,8 @@
 // Tangential smoothing of an extracted quad mesh (DESIGN.md §8.2 step 5): every free vertex
 // moves towards the average of its neighbours and is projected back onto the input surface by a
 // local closest-point search that starts from its current face (a global search could jump to
-// another sheet in thin parts). Meta-vertices, vertices on feature or mesh-boundary meta-edges
-// and the vertices given as pinned stay. A move is taken only if the local guard allows it
+// another sheet in thin parts). Vertices on feature or mesh-boundary meta-edges, the
+// meta-vertices at their ends and the vertices given as pinned stay; other meta-vertices move. A move is taken only if the local guard allows it
 // (extract/surface_guard.hpp): no quad around the vertex ends below min(its scaled Jacobian
 // before, `min_sj`), against its own normal or the surface normal at its corners, so no quad is
 // folded and good quads are not damaged; no surface vertex ends farther from the quads than it
