@@ -93,9 +93,8 @@ uint32_t AabbTree::build(uint32_t begin, uint32_t end) {
   return id;
 }
 
-AabbTree::Hit AabbTree::closest(const Vec3& p) const {
-  Hit best{INFINITY, 0, {}};
-  double best2 = INFINITY;
+template <class Triangle>
+void AabbTree::search(const Vec3& p, const double& best2, Triangle&& triangle) const {
   // Depth-first, nearer child first; the tree is balanced (median splits), so its depth is
   // about log2(n / 4) and a fixed stack of 128 holds any search.
   std::array<uint32_t, 128> stack;
@@ -107,12 +106,7 @@ AabbTree::Hit AabbTree::closest(const Vec3& p) const {
     if (node.leaf) {
       for (uint32_t i = node.left; i < node.right; ++i) {
         const auto& t = tris_[order_[i]];
-        const Vec3 q = closest_point_on_triangle(p, t[0], t[1], t[2]);
-        const double d2 = squared_norm(q - p);
-        if (d2 < best2 || (d2 == best2 && order_[i] < best.triangle)) {
-          best2 = d2;
-          best = {0, order_[i], q};
-        }
+        triangle(i, squared_norm(closest_point_on_triangle(p, t[0], t[1], t[2]) - p));
       }
       continue;
     }
@@ -127,6 +121,21 @@ AabbTree::Hit AabbTree::closest(const Vec3& p) const {
       stack[top++] = node.right;
     }
   }
+}
+
+AabbTree::Hit AabbTree::closest(const Vec3& p) const {
+  Hit best{INFINITY, 0, {}};
+  double best2 = INFINITY;
+  search(p, best2, [&](uint32_t i, double d2) {
+    if (d2 < best2 || (d2 == best2 && order_[i] < best.triangle)) {
+      best2 = d2;
+      best.triangle = order_[i];
+    }
+  });
+  if (best2 < INFINITY) {
+    const auto& t = tris_[best.triangle];
+    best.point = closest_point_on_triangle(p, t[0], t[1], t[2]);
+  }
   best.distance = std::sqrt(best2);
   return best;
 }
@@ -137,29 +146,7 @@ double AabbTree::distance(const Vec3& p, uint32_t hint) const {
     const auto& t = tris_[hint];
     best2 = squared_norm(closest_point_on_triangle(p, t[0], t[1], t[2]) - p);
   }
-  std::array<uint32_t, 128> stack;
-  std::size_t top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (box_distance2(node.box, p) >= best2) continue;
-    if (node.leaf) {
-      for (uint32_t i = node.left; i < node.right; ++i) {
-        const auto& t = tris_[order_[i]];
-        best2 = std::min(best2, squared_norm(closest_point_on_triangle(p, t[0], t[1], t[2]) - p));
-      }
-      continue;
-    }
-    const double dl = box_distance2(nodes_[node.left].box, p);
-    const double dr = box_distance2(nodes_[node.right].box, p);
-    if (dl <= dr) {
-      stack[top++] = node.right;
-      stack[top++] = node.left;
-    } else {
-      stack[top++] = node.left;
-      stack[top++] = node.right;
-    }
-  }
+  search(p, best2, [&](uint32_t, double d2) { best2 = std::min(best2, d2); });
   return std::sqrt(best2);
 }
 

@@ -41,6 +41,10 @@ class AabbTree {
     bool leaf = false;
   };
   uint32_t build(uint32_t begin, uint32_t end);
+  // The closest-point search: every leaf whose box is nearer than best2 (which `triangle`,
+  // called with a triangle's index in order_ and its squared distance, lowers), nearer first.
+  template <class Triangle>
+  void search(const Vec3& p, const double& best2, Triangle&& triangle) const;
   std::vector<std::array<Vec3, 3>> tris_;
   std::vector<uint32_t> order_;
   std::vector<Node> nodes_;
