@@ -2,12 +2,13 @@
 // moves towards the average of its neighbours and is projected back onto the input surface by a
 // local closest-point search that starts from its current face (a global search could jump to
 // another sheet in thin parts). Vertices on feature or mesh-boundary meta-edges, the
-// meta-vertices at their ends and the vertices given as pinned stay; other meta-vertices move. A move is taken only if the local guard allows it
-// (extract/surface_guard.hpp): no quad around the vertex ends below min(its scaled Jacobian
-// before, `min_sj`), against its own normal or the surface normal at its corners, so no quad is
-// folded and good quads are not damaged; no surface vertex ends farther from the quads than it
-// was or `far`, and the quads' sample points end within `far` of the surface, so the smoothing
-// does not cut off what the quads reached (quads farther than `far` already stay as they are).
+// meta-vertices at their ends and the vertices given as pinned stay; other meta-vertices move. A
+// move is taken only if the local guard allows it (extract/surface_guard.hpp): no quad around the
+// vertex ends below min(its scaled Jacobian before, `min_sj`), against its own normal or the
+// surface normal at its corners, so no quad is folded and good quads are not damaged; no surface
+// vertex ends farther from the quads than it was or `far`, and the quads' sample points end within
+// `far` of the surface, so the smoothing does not cut off what the quads reached (quads farther
+// than `far` already stay as they are).
 #pragma once
 
 #include <vector>

@@ -114,7 +114,6 @@ SurfaceGuard::Shape SurfaceGuard::shape(uint32_t v) const {
 
 SurfaceGuard::Local SurfaceGuard::local(uint32_t v, uint32_t tip) const {
   Local l;
-  l.v = v;
   l.changed = around_[v];
   std::vector<uint32_t> ring;
   for (const uint32_t f : l.changed) {
@@ -181,7 +180,9 @@ bool SurfaceGuard::try_move(uint32_t v, uint32_t tip, const SurfacePoint& s, Sha
   for (std::size_t i = 0; ok && i < around.size(); ++i)
     ok = surface_sj(around[i], true) >= std::min(shape.rough[i], min_sj_) - kRoughMargin &&
          own_sj(around[i]) >= std::min(shape.own[i], min_sj_);
-  std::vector<double> sj_after(around.size()), samples_after(around.size());
+  std::vector<double>&sj_after = sj_after_, &samples_after = samples_after_;
+  sj_after.assign(around.size(), 0);
+  samples_after.assign(around.size(), 0);
   for (std::size_t i = 0; ok && i < around.size(); ++i) {
     sj_after[i] = surface_sj(around[i]);
     ok = sj_after[i] >= std::min(exact_sj_[around[i]], min_sj_);

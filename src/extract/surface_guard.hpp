@@ -37,7 +37,6 @@ class SurfaceGuard {
   // the tip being worked on: other vertices can only come closer). `others` is each such
   // vertex's distance to the quads next to the changed ones, which do not move.
   struct Local {
-    uint32_t v = kInvalid;
     std::vector<uint32_t> changed, verts;
     std::vector<uint32_t> near;  // per entry of verts: its closest quad of those measured
     std::vector<double> dist, others;
@@ -79,6 +78,7 @@ class SurfaceGuard {
   std::vector<std::vector<uint32_t>> assigned_;  // per quad: the surface vertices closest to it
   // Per quad, as it is: surface_sj and quad_samples, NaN until measured.
   std::vector<double> exact_sj_, samples_;
+  std::vector<double> sj_after_, samples_after_;  // try_move's, for the quads around v
 };
 
 }  // namespace isoquad
