@@ -1,6 +1,7 @@
 #include "metrics/quality.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -118,9 +119,18 @@ std::vector<std::array<Vec3, 3>> fan_triangles(const PolyMesh& m) {
   return t;
 }
 
+// SplitMix64 (Steele, Lea and Flood 2014): its increment and its output function.
+constexpr uint64_t kGolden = 0x9e3779b97f4a7c15ull;
+uint64_t mix64(uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
 // The triangles' corners, each point once (a vertex is a corner of about six triangles), in the
-// order of first use.
-std::vector<Vec3> distinct_corners(const std::vector<std::array<Vec3, 3>>& tris) {
+// order of first use; `slot[3 * t + k]` is the index in the result of corner k of triangle t.
+std::vector<Vec3> distinct_corners(const std::vector<std::array<Vec3, 3>>& tris,
+                                   std::vector<uint32_t>& slot) {
   // Sorted by value, not through indices: a third of the time on bunny00's 226k corners.
   struct Corner {
     Vec3 p;
@@ -135,51 +145,141 @@ std::vector<Vec3> distinct_corners(const std::vector<std::array<Vec3, 3>>& tris)
   std::vector<Corner> c(3 * tris.size());
   for (uint32_t i = 0; i < c.size(); ++i) c[i] = {tris[i / 3][i % 3], i};
   std::sort(c.begin(), c.end());
-  std::vector<char> first(c.size(), 0);
-  for (std::size_t k = 0; k < c.size(); ++k) first[c[k].i] = k == 0 || !(c[k].p == c[k - 1].p);
+  std::vector<uint32_t> first_of(c.size());  // per corner, the corner (in file order) it repeats
+  for (std::size_t k = 0; k < c.size(); ++k)
+    first_of[c[k].i] = k == 0 || !(c[k].p == c[k - 1].p) ? c[k].i : first_of[c[k - 1].i];
+  // c is sorted by (position, corner): the first of a run of equal positions is its smallest
+  // corner, so first_of[i] <= i and the slots can be given in one pass in corner order.
   std::vector<Vec3> points;
-  for (uint32_t i = 0; i < c.size(); ++i)
-    if (first[i]) points.push_back(tris[i / 3][i % 3]);
+  slot.assign(c.size(), 0);
+  for (uint32_t i = 0; i < c.size(); ++i) {
+    if (first_of[i] == i) {
+      slot[i] = uint32_t(points.size());
+      points.push_back(tris[i / 3][i % 3]);
+    } else {
+      slot[i] = slot[first_of[i]];
+    }
+  }
   return points;
 }
 
-// One-sided distances from area samples (and the vertices) of `from` to `to`.
-void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTree& to,
-                      uint32_t samples, uint64_t seed, double& max_d, Vec3& max_at, double& sum_d,
-                      uint64_t& count) {
-  std::vector<double> cum(from.size() + 1, 0.0);
-  for (std::size_t i = 0; i < from.size(); ++i)
-    cum[i + 1] = cum[i] + 0.5 * norm(cross(from[i][1] - from[i][0], from[i][2] - from[i][0]));
-  // The points first (the generator in order), then their distances in parallel, then the
-  // maximum and the sum in point order: the same figures for any thread count.
-  std::vector<Vec3> points = distinct_corners(from);
-  points.reserve(points.size() + samples);
-  if (cum.back() > 0) {
-    std::mt19937_64 rng(seed);
-    auto uniform = [&] { return double(rng() >> 11) * 0x1.0p-53; };
-    for (uint32_t s = 0; s < samples; ++s) {
-      const double r = uniform() * cum.back();
-      const std::size_t i = std::min<std::size_t>(
-          std::upper_bound(cum.begin(), cum.end(), r) - cum.begin() - 1, from.size() - 1);
-      double a = uniform(), b = uniform();
-      if (a + b > 1) a = 1 - a, b = 1 - b;
-      const auto& t = from[i];
-      points.push_back(t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]));
-    }
-  }
-  // Queried in Z-curve order (neighbouring queries walk the same tree nodes: input faces are
-  // often listed in no spatial order), stored in point order.
+// The distances from `points` to `to`, in parallel: queried in Z-curve order (neighbouring
+// queries walk the same tree nodes: input faces are often listed in no spatial order), stored in
+// point order.
+std::vector<double> distances_to(const std::vector<Vec3>& points, const AabbTree& to) {
   const std::vector<uint32_t> order = z_order(points);
   std::vector<double> d(points.size());
   tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t k) {
     const uint32_t i = order[k];
     d[i] = to.closest(points[i]).distance;
   });
+  return d;
+}
+
+// The largest distance from the triangles of `from` to `to` within a guaranteed error, raising
+// max_d (at max_at) found at sample points. The distance to a surface is 1-Lipschitz, and every
+// point of a triangle lies within longest edge / sqrt(3) of one of its corners, so no point of a
+// triangle is farther than its farthest corner plus that. Triangles whose bound exceeds the
+// maximum found (by more than kMaxDistanceRelativeError of it, or 1e-6 of `scale`, the
+// triangles' bounding-box diagonal) are cut into four at their edge midpoints, the
+// midpoints measured, until no bound does: a branch and bound after Guthe, Borodin and Klein
+// (2005), "Fast and accurate Hausdorff distance calculation between meshes". Samples alone
+// miss the top of a narrow peak (20,000 of them put the elephant's quads 0.95% or 1.07% of the
+// diagonal from the surface, by the draw); this finds it whatever the draw. The work is bounded
+// (`budget` measured points), which only surfaces that all but coincide reach: past it max_d is
+// what was found, a lower bound.
+void refine_maximum(const std::vector<std::array<Vec3, 3>>& from,
+                    const std::vector<double>& corner_d, const AabbTree& to, double scale,
+                    std::size_t budget, double& max_d, Vec3& max_at) {
+  struct Piece {
+    std::array<Vec3, 3> p;
+    std::array<double, 3> d;
+  };
+  const double kInvSqrt3 = 1 / std::numbers::sqrt3;
+  auto slack = [&] { return std::max(kMaxDistanceRelativeError * max_d, 1e-6 * scale); };
+  auto open = [&](const Piece& t) {
+    const double longest = std::sqrt(
+        std::max({dot(t.p[1] - t.p[0], t.p[1] - t.p[0]), dot(t.p[2] - t.p[1], t.p[2] - t.p[1]),
+                  dot(t.p[0] - t.p[2], t.p[0] - t.p[2])}));
+    return std::max({t.d[0], t.d[1], t.d[2]}) + kInvSqrt3 * longest > max_d + slack();
+  };
+  std::vector<Piece> active;
+  for (std::size_t t = 0; t < from.size(); ++t) {
+    const Piece piece{from[t], {corner_d[3 * t], corner_d[3 * t + 1], corner_d[3 * t + 2]}};
+    if (open(piece)) active.push_back(piece);
+  }
+  std::size_t spent = 0;
+  std::vector<Vec3> mid;
+  while (!active.empty() && spent < budget) {
+    mid.clear();
+    for (const Piece& t : active)
+      for (int k = 0; k < 3; ++k) mid.push_back(0.5 * t.p[k] + 0.5 * t.p[(k + 1) % 3]);
+    const std::vector<double> md = distances_to(mid, to);
+    spent += mid.size();
+    for (std::size_t i = 0; i < mid.size(); ++i)
+      if (md[i] > max_d) max_d = md[i], max_at = mid[i];
+    std::vector<Piece> next;
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      const auto& p = active[a].p;
+      const auto& d = active[a].d;
+      const Vec3 m0 = mid[3 * a], m1 = mid[3 * a + 1], m2 = mid[3 * a + 2];  // p0p1, p1p2, p2p0
+      const double e0 = md[3 * a], e1 = md[3 * a + 1], e2 = md[3 * a + 2];
+      for (const Piece& c :
+           {Piece{{p[0], m0, m2}, {d[0], e0, e2}}, Piece{{m0, p[1], m1}, {e0, d[1], e1}},
+            Piece{{m2, m1, p[2]}, {e2, e1, d[2]}}, Piece{{m0, m1, m2}, {e0, e1, e2}}})
+        if (open(c)) next.push_back(c);
+    }
+    active = std::move(next);
+  }
+}
+
+// One-sided distances from `from` to `to`: the maximum within kMaxDistanceRelativeError (from the
+// vertices, area samples and refine_maximum), the sum and count for the mean (over the vertices
+// and the area samples).
+void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTree& to,
+                      uint32_t samples, uint64_t seed, double& max_d, Vec3& max_at, double& sum_d,
+                      uint64_t& count) {
+  double total = 0;
+  Box3 box;
+  for (const auto& t : from) {
+    total += 0.5 * norm(cross(t[1] - t[0], t[2] - t[0]));
+    for (const Vec3& c : t) box.add(c);
+  }
+  // Each triangle draws its share of the samples at the density samples / total area (the whole
+  // part, and one more with the probability of the fraction) from a generator seeded by `seed`
+  // and the triangle's corners: a triangle that stays keeps its points whatever changes
+  // elsewhere, so the mean moves with what changed and not with a reshuffle of every sample.
+  // Then the points' distances in parallel, the maximum and the sum in point order: the same
+  // figures for any thread count.
+  std::vector<uint32_t> slot;
+  std::vector<Vec3> points = distinct_corners(from, slot);
+  points.reserve(points.size() + samples);
+  const double density = total > 0 ? double(samples) / total : 0;
+  for (const auto& t : from) {
+    uint64_t state = seed;
+    for (const Vec3& c : t)
+      for (int k = 0; k < 3; ++k) state = mix64((state + kGolden) ^ std::bit_cast<uint64_t>(c[k]));
+    auto uniform = [&] { return double(mix64(state += kGolden) >> 11) * 0x1.0p-53; };
+    const double expected = density * 0.5 * norm(cross(t[1] - t[0], t[2] - t[0]));
+    double whole = std::floor(expected);
+    if (uniform() < expected - whole) whole += 1;
+    for (uint32_t s = 0; s < uint32_t(whole); ++s) {
+      double a = uniform(), b = uniform();
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      points.push_back(t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]));
+    }
+  }
+  const std::vector<double> d = distances_to(points, to);
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (d[i] > max_d) max_d = d[i], max_at = points[i];
     sum_d += d[i];
     ++count;
   }
+  std::vector<double> corner_d(slot.size());
+  for (std::size_t i = 0; i < slot.size(); ++i) corner_d[i] = d[slot[i]];
+  // The budget is only reached where the surfaces all but coincide (every bound stays open until
+  // the pieces are as small as the error allowed); elsewhere a few thousand points settle it.
+  refine_maximum(from, corner_d, to, box.diagonal(), 4 * points.size() + 4096, max_d, max_at);
 }
 
 double mean_of(const std::vector<double>& x) {

@@ -62,6 +62,10 @@ struct QualityReport {
   bool has_reference = false;
 };
 
+// The two-sided distance's maximum (the Hausdorff distance) is found to within this fraction of
+// itself: every point of both surfaces is that close to a point measured.
+inline constexpr double kMaxDistanceRelativeError = 1e-3;
+
 struct QualityOptions {
   uint32_t samples = 20000;  // area samples per surface for the distances
   uint64_t seed = 1;
@@ -99,8 +103,10 @@ std::array<double, 4> quad_corner_scaled_jacobians(const std::array<Vec3, 4>& q)
 double quad_aspect_ratio(const std::array<Vec3, 4>& q);
 
 // Two-sided distance between a triangle set and the triangles of an AabbTree (as
-// QualityReport's, before the division by the diagonal): from `samples` area samples and every
-// vertex of each set to the other set.
+// QualityReport's, before the division by the diagonal): the maximum to within
+// kMaxDistanceRelativeError (a branch and bound over each set's triangles), the mean over
+// `samples` area samples (each triangle's drawn from `seed` and its corners) and every vertex of
+// each set to the other set.
 struct SurfaceDistance {
   double max = 0, mean = 0;  // the larger one-sided maximum; the mean of the one-sided means
   Vec3 at;                   // where the maximum is reached

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/report_json.hpp"
+#include "metrics/aabb_tree.hpp"
 #include "metrics/feature_coverage.hpp"
 #include "metrics/quality.hpp"
 #include "shapes.hpp"
@@ -173,6 +174,7 @@ TEST(QualityMeasures, ScaleInvariantAndInTheJson) {
     EXPECT_EQ(s.area_cv, q.area_cv) << e;
     EXPECT_EQ(s.feature_coverage, q.feature_coverage) << e;
     EXPECT_EQ(s.feature_length, std::ldexp(q.feature_length, e)) << e;
+    EXPECT_NEAR(s.hausdorff, q.hausdorff, kMaxDistanceRelativeError * q.hausdorff) << e;
   }
   const nlohmann::json j = q;
   EXPECT_EQ(j["scaled_jacobian"]["at_most_0.001"], q.sj_invalid);
@@ -184,4 +186,27 @@ TEST(QualityMeasures, ScaleInvariantAndInTheJson) {
   EXPECT_EQ(j["feature_coverage"]["length"], q.feature_length);
   EXPECT_EQ(j["feature_coverage"]["angle_deg"], 60.0);
   EXPECT_FALSE(nlohmann::json(measure_quality(quads, nullptr)).contains("feature_coverage"));
+}
+
+// The Hausdorff distance is found within kMaxDistanceRelativeError, wherever it is reached, with
+// few samples or none: an equilateral triangle of side 1 against three tiny triangles at its
+// corners (pointing away from it) is farthest at its centre, 1 / sqrt(3) from each corner, where
+// no vertex, edge midpoint or likely sample lies; the corners are at distance 0 the other way.
+TEST(QualityMeasures, HausdorffDistanceFoundWhereNoSampleIs) {
+  const Vec3 c[3] = {{0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(0.75), 0}};
+  const Vec3 centre = (1.0 / 3) * (c[0] + c[1] + c[2]);
+  std::vector<std::array<Vec3, 3>> tips;
+  for (const Vec3& p : c) {
+    const Vec3 out = p - centre;
+    tips.push_back({p, p + 1e-3 * out + Vec3{0, 0, 1e-3}, p + 1e-3 * out - Vec3{0, 0, 1e-3}});
+  }
+  const AabbTree tree(tips);
+  const double exact = 1 / std::sqrt(3.0);
+  for (const uint32_t samples : {0u, 10u, 1000u}) {
+    const SurfaceDistance d = surface_distance({{c[0], c[1], c[2]}}, tree, samples, 1);
+    EXPECT_LE(d.max, exact * (1 + 1e-12)) << samples;
+    EXPECT_GE(d.max, exact * (1 - kMaxDistanceRelativeError)) << samples;
+    EXPECT_FALSE(d.on_b);
+    EXPECT_LT(norm(d.at - centre), 0.05) << samples;
+  }
 }
