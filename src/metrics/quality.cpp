@@ -163,73 +163,96 @@ std::vector<Vec3> distinct_corners(const std::vector<std::array<Vec3, 3>>& tris,
   return points;
 }
 
-// The distances from `points` to `to`, in parallel: queried in Z-curve order (neighbouring
+// The closest points of `to` to `points`, in parallel: queried in Z-curve order (neighbouring
 // queries walk the same tree nodes: input faces are often listed in no spatial order), stored in
 // point order.
-std::vector<double> distances_to(const std::vector<Vec3>& points, const AabbTree& to) {
+std::vector<AabbTree::Hit> closest_in(const std::vector<Vec3>& points, const AabbTree& to) {
   const std::vector<uint32_t> order = z_order(points);
-  std::vector<double> d(points.size());
+  std::vector<AabbTree::Hit> hit(points.size());
   tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t k) {
     const uint32_t i = order[k];
-    d[i] = to.closest(points[i]).distance;
+    hit[i] = to.closest(points[i]);
   });
-  return d;
+  return hit;
 }
 
 // The largest distance from the triangles of `from` to `to` within a guaranteed error, raising
-// max_d (at max_at) found at sample points. The distance to a surface is 1-Lipschitz, and every
-// point of a triangle lies within longest edge / sqrt(3) of one of its corners, so no point of a
-// triangle is farther than its farthest corner plus that. Triangles whose bound exceeds the
-// maximum found (by more than kMaxDistanceRelativeError of it, or 1e-6 of `scale`, the
-// triangles' bounding-box diagonal) are cut into four at their edge midpoints, the
-// midpoints measured, until no bound does: a branch and bound after Guthe, Borodin and Klein
-// (2005), "Fast and accurate Hausdorff distance calculation between meshes". Samples alone
-// miss the top of a narrow peak (20,000 of them put the elephant's quads 0.95% or 1.07% of the
-// diagonal from the surface, by the draw); this finds it whatever the draw. The work is bounded
-// (`budget` measured points), which only surfaces that all but coincide reach: past it max_d is
-// what was found, a lower bound.
+// max_d (at max_at) found at the vertices and samples (`corner` holds each triangle's corners'
+// closest points). A triangle's points are no farther from `to` than either of two bounds:
+// - its farthest corner plus its longest edge / sqrt(3) (the distance is 1-Lipschitz, and every
+//   point of a triangle lies within that of a corner);
+// - its corners' largest distance to one triangle T of `to` (the distance to T is convex, so
+//   its maximum over a triangle is at a corner), T the closest triangle of one of the corners:
+//   tight where a piece lies over one triangle of `to`, as the quads over a coarse input do.
+// Triangles whose bound exceeds the maximum found (by more than kMaxDistanceRelativeError of it,
+// or 1e-6 of `scale`, the triangles' bounding-box diagonal) are cut into four at their edge
+// midpoints and the midpoints measured, until no bound does: a branch and bound after Guthe,
+// Borodin and Klein (2005), "Fast and accurate Hausdorff distance calculation between meshes".
+// Samples alone miss the top of a narrow peak (20,000 of them put the elephant's quads 0.95% or
+// 1.07% of the diagonal from the surface, by the draw). The work is bounded (`budget` measured
+// points), which only surfaces that all but coincide reach: past it max_d is what was found, a
+// lower bound.
 void refine_maximum(const std::vector<std::array<Vec3, 3>>& from,
-                    const std::vector<double>& corner_d, const AabbTree& to, double scale,
+                    const std::vector<AabbTree::Hit>& corner, const AabbTree& to, double scale,
                     std::size_t budget, double& max_d, Vec3& max_at) {
   struct Piece {
     std::array<Vec3, 3> p;
     std::array<double, 3> d;
+    std::array<uint32_t, 3> near;  // the corners' closest triangles of `to`
   };
   const double kInvSqrt3 = 1 / std::numbers::sqrt3;
-  auto slack = [&] { return std::max(kMaxDistanceRelativeError * max_d, 1e-6 * scale); };
+  const auto& tris = to.triangles();
   auto open = [&](const Piece& t) {
+    const double limit = max_d + std::max(kMaxDistanceRelativeError * max_d, 1e-6 * scale);
     const double longest = std::sqrt(
         std::max({dot(t.p[1] - t.p[0], t.p[1] - t.p[0]), dot(t.p[2] - t.p[1], t.p[2] - t.p[1]),
                   dot(t.p[0] - t.p[2], t.p[0] - t.p[2])}));
-    return std::max({t.d[0], t.d[1], t.d[2]}) + kInvSqrt3 * longest > max_d + slack();
+    if (std::max({t.d[0], t.d[1], t.d[2]}) + kInvSqrt3 * longest <= limit) return false;
+    for (int k = 0; k < 3; ++k) {
+      if (k > 0 && (t.near[k] == t.near[0] || (k == 2 && t.near[2] == t.near[1]))) continue;
+      const auto& tri = tris[t.near[k]];
+      double most = 0;
+      for (int c = 0; c < 3 && most <= limit; ++c)
+        most = std::max(most,
+                        norm(t.p[c] - closest_point_on_triangle(t.p[c], tri[0], tri[1], tri[2])));
+      if (most <= limit) return false;
+    }
+    return true;
   };
   std::vector<Piece> active;
   for (std::size_t t = 0; t < from.size(); ++t) {
-    const Piece piece{from[t], {corner_d[3 * t], corner_d[3 * t + 1], corner_d[3 * t + 2]}};
+    const AabbTree::Hit* h = &corner[3 * t];
+    const Piece piece{from[t],
+                      {h[0].distance, h[1].distance, h[2].distance},
+                      {h[0].triangle, h[1].triangle, h[2].triangle}};
     if (open(piece)) active.push_back(piece);
   }
   std::size_t spent = 0;
   std::vector<Vec3> mid;
+  std::vector<Piece> next;
   while (!active.empty() && spent < budget) {
     mid.clear();
     for (const Piece& t : active)
       for (int k = 0; k < 3; ++k) mid.push_back(0.5 * t.p[k] + 0.5 * t.p[(k + 1) % 3]);
-    const std::vector<double> md = distances_to(mid, to);
+    const std::vector<AabbTree::Hit> mh = closest_in(mid, to);
     spent += mid.size();
     for (std::size_t i = 0; i < mid.size(); ++i)
-      if (md[i] > max_d) max_d = md[i], max_at = mid[i];
-    std::vector<Piece> next;
+      if (mh[i].distance > max_d) max_d = mh[i].distance, max_at = mid[i];
+    next.clear();
     for (std::size_t a = 0; a < active.size(); ++a) {
-      const auto& p = active[a].p;
-      const auto& d = active[a].d;
+      const Piece& t = active[a];
       const Vec3 m0 = mid[3 * a], m1 = mid[3 * a + 1], m2 = mid[3 * a + 2];  // p0p1, p1p2, p2p0
-      const double e0 = md[3 * a], e1 = md[3 * a + 1], e2 = md[3 * a + 2];
-      for (const Piece& c :
-           {Piece{{p[0], m0, m2}, {d[0], e0, e2}}, Piece{{m0, p[1], m1}, {e0, d[1], e1}},
-            Piece{{m2, m1, p[2]}, {e2, e1, d[2]}}, Piece{{m0, m1, m2}, {e0, e1, e2}}})
+      const double e0 = mh[3 * a].distance, e1 = mh[3 * a + 1].distance,
+                   e2 = mh[3 * a + 2].distance;
+      const uint32_t n0 = mh[3 * a].triangle, n1 = mh[3 * a + 1].triangle,
+                     n2 = mh[3 * a + 2].triangle;
+      for (const Piece& c : {Piece{{t.p[0], m0, m2}, {t.d[0], e0, e2}, {t.near[0], n0, n2}},
+                             Piece{{m0, t.p[1], m1}, {e0, t.d[1], e1}, {n0, t.near[1], n1}},
+                             Piece{{m2, m1, t.p[2]}, {e2, e1, t.d[2]}, {n2, n1, t.near[2]}},
+                             Piece{{m0, m1, m2}, {e0, e1, e2}, {n0, n1, n2}}})
         if (open(c)) next.push_back(c);
     }
-    active = std::move(next);
+    std::swap(active, next);
   }
 }
 
@@ -269,17 +292,17 @@ void sample_distances(const std::vector<std::array<Vec3, 3>>& from, const AabbTr
       points.push_back(t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]));
     }
   }
-  const std::vector<double> d = distances_to(points, to);
+  const std::vector<AabbTree::Hit> hit = closest_in(points, to);
   for (std::size_t i = 0; i < points.size(); ++i) {
-    if (d[i] > max_d) max_d = d[i], max_at = points[i];
-    sum_d += d[i];
+    if (hit[i].distance > max_d) max_d = hit[i].distance, max_at = points[i];
+    sum_d += hit[i].distance;
     ++count;
   }
-  std::vector<double> corner_d(slot.size());
-  for (std::size_t i = 0; i < slot.size(); ++i) corner_d[i] = d[slot[i]];
+  std::vector<AabbTree::Hit> corner(slot.size());
+  for (std::size_t i = 0; i < slot.size(); ++i) corner[i] = hit[slot[i]];
   // The budget is only reached where the surfaces all but coincide (every bound stays open until
   // the pieces are as small as the error allowed); elsewhere a few thousand points settle it.
-  refine_maximum(from, corner_d, to, box.diagonal(), 4 * points.size() + 4096, max_d, max_at);
+  refine_maximum(from, corner, to, box.diagonal(), 4 * points.size() + 4096, max_d, max_at);
 }
 
 double mean_of(const std::vector<double>& x) {
