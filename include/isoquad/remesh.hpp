@@ -34,7 +34,7 @@ struct RemeshOptions {
   // Weld every vertex onto another at the same position first: for STL files, whose faces each
   // have their own vertices (MeshArrays::unshared_vertices, isoquad/io.hpp).
   bool weld_all = false;
-  uint32_t smooth = 0;         // tangential smoothing sweeps on the surface, last (0: off)
+  uint32_t smooth = 3;         // tangential smoothing sweeps on the surface, last (0: off)
   bool untangle = true;        // move corners of quads folded against the surface
   bool snap = true;            // move corners onto tips the quads cut off (extract/snap.hpp)
   uint32_t fold_rounds = 2;    // more quads across patches still folded, re-solved this often

@@ -35,7 +35,7 @@ struct PipelineOptions {
   uint64_t seed = 1;
   LayoutOptions layout;  // corners and length solver (size fields are set per component)
   ParamOptions param;
-  uint32_t smooth = 0;   // tangential smoothing sweeps, the component's last pass (0: off)
+  uint32_t smooth = 3;   // tangential smoothing sweeps, the component's last pass (0: off)
   bool untangle = true;  // repair quads folded against the surface (extract/untangle.hpp)
   bool snap = true;      // move quad corners onto tips the quads cut off (extract/snap.hpp)
   // Rounds of more quads across the patches whose quads are still folded after untangling

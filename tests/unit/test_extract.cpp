@@ -44,6 +44,7 @@ Remeshed remesh_shape(const PolyMesh& m, uint32_t k, double quads,
   o.snap = snap;
   o.tip_split = tip_split;  // the stages of one run, unless asked
   o.refine = false;         // the layout's lattice quads (a fold would be cut finer)
+  o.smooth = 0;             // as extracted (the smoothing tests smooth them themselves)
   o.param.weights = weights;
   o.patches = k;
   o.quads = quads;
@@ -856,6 +857,8 @@ TEST(Smooth, IsTheLastPassOfAComponent) {
   const PreparedMesh prep = prepare(bumpy);
   PipelineOptions o;
   o.quads = 300;
+  EXPECT_EQ(o.smooth, 3u);  // the default
+  o.smooth = 0;
   const ComponentRun plain = run_component(prep, 0, o);
   o.smooth = 3;
   const ComponentRun smoothed = run_component(prep, 0, o);
