@@ -241,7 +241,10 @@ bool merge_island(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint
 }
 
 // Geodesic Voronoi split of patch p into k cells seeded by farthest-point sampling on the dual
-// graph; accepted for the first k whose cells are all disks.
+// graph; accepted for the first k whose cells are all disks. Where no k up to 24 gives only
+// disks (a handle or a hole far smaller than a cell stays inside one), the k whose cells that are
+// not disks hold the fewest faces is taken: those cells are smaller than p, and the next round
+// of make_disk_patches cuts them again, so the repair still ends in disks.
 bool voronoi_split(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint32_t& n) {
   std::vector<uint32_t> faces;
   for (uint32_t f = 0; f < m.num_faces(); ++f)
@@ -254,12 +257,20 @@ bool voronoi_split(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uin
       return d.distance[a] < d.distance[b] || (d.distance[a] == d.distance[b] && a > b);
     }));
   }
+  FaceData<uint32_t> fewest;  // the trial whose non-disk cells hold the fewest faces
+  uint32_t fewest_k = 0, fewest_faces = uint32_t(faces.size());
+  const auto take_fewest = [&] {
+    if (fewest_k == 0) return false;
+    labels = std::move(fewest);
+    n += fewest_k - 1;
+    return true;
+  };
   for (uint32_t k = 2; k <= 24; ++k) {
     ShortestPaths d = face_dijkstra(m, seeds, inside);
     const uint32_t far = *std::max_element(faces.begin(), faces.end(), [&](uint32_t a, uint32_t b) {
       return d.distance[a] < d.distance[b] || (d.distance[a] == d.distance[b] && a > b);
     });
-    if (d.distance[far] == 0) return false;  // no face left to seed
+    if (d.distance[far] == 0) return take_fewest();  // no face left to seed
     seeds.push_back(far);
     d = face_dijkstra(m, seeds, inside);
     FaceData<uint32_t> trial = labels;
@@ -268,15 +279,20 @@ bool voronoi_split(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uin
       trial[f] = it == seeds.begin() ? p : n + uint32_t(it - seeds.begin()) - 1;
     }
     const auto topo = patch_topology(m, trial, n + k - 1);
-    bool all_disks = topo[p].is_disk();
-    for (uint32_t c = n; c < n + k - 1; ++c) all_disks = all_disks && topo[c].is_disk();
-    if (all_disks) {
+    uint32_t not_disk = topo[p].is_disk() ? 0 : topo[p].faces;
+    for (uint32_t c = n; c < n + k - 1; ++c) not_disk += topo[c].is_disk() ? 0 : topo[c].faces;
+    if (not_disk == 0) {
       labels = std::move(trial);
       n += k - 1;
       return true;
     }
+    if (not_disk < fewest_faces) {
+      fewest = std::move(trial);
+      fewest_k = k;
+      fewest_faces = not_disk;
+    }
   }
-  return false;
+  return take_fewest();
 }
 
 }  // namespace

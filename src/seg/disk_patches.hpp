@@ -21,7 +21,8 @@ struct DiskRepairLog {
 };
 
 // Relabels in place and returns the new number of patches (labels 0..n-1, ordered by first face).
-// \throw Error(unsupported_topology, E201) if a patch cannot be made a disk in 12 pieces.
+// \throw Error(unsupported_topology, E201) if a patch cannot be made a disk (no Voronoi split
+// of it leaves fewer faces in cells that are not disks).
 uint32_t make_disk_patches(const TriMesh& mesh, FaceData<uint32_t>& labels, DiskRepairLog& log);
 
 // Renumbers labels 0..n-1 in order of first face; returns n.

@@ -177,6 +177,54 @@ TEST(Disk, OpenTubeBecomesLongStripsNotRings) {
   expect_valid(c.mesh, r);
 }
 
+// A sphere with a handle two triangles long between neighbouring faces, in one patch: every
+// Voronoi cell of up to 24 seeds that holds the handle is not a disk, so the split keeps the
+// one whose non-disk cells are smallest and the next round cuts those again (E201 before).
+TEST(Disk, TinyHandleInOnePatchIsCutAway) {
+  PolyMesh m = test::icosphere(4);
+  const auto centroid = [&](std::size_t f) {
+    const auto v = m.face(f);
+    return (m.positions[v[0]] + m.positions[v[1]] + m.positions[v[2]]) / 3.0;
+  };
+  // The nearest face with no vertex on face 0's vertices' one-rings, so that the tube's edges
+  // are new edges.
+  std::set<uint32_t> near;
+  for (std::size_t g = 0; g < m.num_faces(); ++g)
+    for (uint32_t v : m.face(g))
+      if (std::ranges::find(m.face(0), v) != m.face(0).end())
+        for (uint32_t w : m.face(g)) near.insert(w);
+  const auto apart = [&](std::size_t g) {
+    return std::ranges::none_of(m.face(g), [&](uint32_t v) { return near.count(v) > 0; });
+  };
+  std::size_t other = 0;
+  for (std::size_t g = 1; g < m.num_faces(); ++g)
+    if (apart(g) &&
+        (other == 0 || norm(centroid(g) - centroid(0)) < norm(centroid(other) - centroid(0))))
+      other = g;
+  ASSERT_GT(other, 0u);
+  const auto t0 = m.face(0), t1 = m.face(other);
+  const uint32_t a = t0[0], b = t0[1], c = t0[2], d = t1[0], e = t1[1], f = t1[2];
+  PolyMesh handled;
+  handled.positions = m.positions;
+  for (std::size_t g = 0; g < m.num_faces(); ++g)
+    if (g != 0 && g != other) {
+      const auto v = m.face(g);
+      handled.add_face({v[0], v[1], v[2]});
+    }
+  // The tube's three quads, each as two triangles: they hold a->b, b->c, c->a and d->e, e->f,
+  // f->d, the halfedges the two removed faces held.
+  for (const std::array<uint32_t, 4>& q :
+       {std::array<uint32_t, 4>{a, b, d, e}, {b, c, f, d}, {c, a, e, f}}) {
+    handled.add_face({q[0], q[1], q[2]});
+    handled.add_face({q[0], q[2], q[3]});
+  }
+  const PreparedComponent comp = prepared(handled);
+  ASSERT_EQ(comp.mesh.euler_characteristic(), 0);  // a torus: the handle is a handle
+  const SegmentResult r = segment(comp.mesh, comp.feature, with_patches(1));
+  EXPECT_GE(r.repair.voronoi_splits, 2u);
+  expect_valid(comp.mesh, r);
+}
+
 TEST(Disk, TorusInOnePatch) {
   const PreparedComponent c = prepared(test::torus(48, 16));
   const SegmentResult r = segment(c.mesh, c.feature, with_patches(1));
