@@ -975,18 +975,13 @@ void smooth_last(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o,
   run.extract_seconds += seconds_since(t0);
 }
 
+ComponentRun triangle_split_run(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o,
+                                std::string reason);
+
 ComponentRun run_component_unsmoothed(const PreparedMesh& prep, uint32_t c,
                                       const PipelineOptions& o) {
   const TriMesh& mesh = prep.components.at(c).mesh;
-  if (mesh.num_faces() < kTriangleSplitBelowFaces) {
-    ComponentRun small;
-    small.component = c;
-    small.area_share = component_size(prep, c, {o.edge_length, o.quads}).area_share;
-    small.triangle_split = true;
-    small.surface = identity_refinement(mesh);
-    small.quads = split_triangles_into_quads(mesh);
-    return small;
-  }
+  if (mesh.num_faces() < kTriangleSplitBelowFaces) return triangle_split_run(prep, c, o, "");
   ComponentRun run = run_sized(prep, c, o);
   if (o.edge_length > 0 || o.quads > 0 || o.tolerance <= 0 || o.tolerance_rounds == 0 ||
       o.last != Stage::extract || run.quads.quads.empty())
@@ -1034,8 +1029,56 @@ ComponentRun run_component_unsmoothed(const PreparedMesh& prep, uint32_t c,
 
 }  // namespace
 
+namespace {
+
+// The component's triangles each split into three quads (split_triangles.hpp): valid on any
+// edge-manifold, oriented component, of its topology, but with no layout and as many quads as
+// the surface has corners, edges and faces.
+ComponentRun triangle_split_run(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o,
+                                std::string reason) {
+  const TriMesh& mesh = prep.components.at(c).mesh;
+  ComponentRun small;
+  small.component = c;
+  small.area_share = component_size(prep, c, {o.edge_length, o.quads}).area_share;
+  small.triangle_split = true;
+  small.triangle_split_reason = std::move(reason);
+  small.surface = identity_refinement(mesh);
+  small.quads = split_triangles_into_quads(mesh);
+  return small;
+}
+
+}  // namespace
+
 ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
-  ComponentRun run = run_component_unsmoothed(prep, c, o);
+  // A promise: every edge-manifold, oriented component gets valid quads of its topology. Where
+  // every alternative of the stages failed with an error, or the quads came out of another
+  // topology (a component given too few quads for its patches, a hole narrower than a quad),
+  // the triangle split is the last resort, said as such. Not for internal errors (bugs), nor
+  // for an edge length the caller gave that is too large for the component (E501 says which to
+  // give), nor where the split itself is not valid (zero-area triangles): those propagate.
+  const bool whole = o.last == Stage::extract;
+  ComponentRun run;
+  try {
+    run = run_component_unsmoothed(prep, c, o);
+  } catch (const Error& e) {
+    if (!whole || e.kind() == ErrorKind::internal || (e.code() == "E501" && o.edge_length > 0))
+      throw;
+    ComponentRun split = triangle_split_run(prep, c, o, e.what());
+    if (invalid_quads(split.quads) > 0) throw;
+    return split;
+  }
+  if (whole && !run.triangle_split && !o.allow_topology_change) {
+    const TriMesh& mesh = prep.components[c].mesh;
+    const Topology input{mesh.euler_characteristic(), mesh.num_components(),
+                         uint32_t(mesh.boundary_loops().size())};
+    const std::string change = topology_change(
+        input, topology_of(as_poly(run.quads), nullptr, nullptr, nullptr, nullptr, nullptr));
+    if (!change.empty()) {
+      ComponentRun split = triangle_split_run(
+          prep, c, o, fmt::format("the quads' topology was not the component's ({})", change));
+      if (invalid_quads(split.quads) == 0) return split;
+    }
+  }
   smooth_last(prep, c, o, run);
   return run;
 }

@@ -91,6 +91,9 @@ struct PipelineOptions {
   // two (seg/vsa.hpp split_vsa_regions) and the stages run again from the segmentation; kept if
   // fewer quads fold.
   bool misfit_split = true;
+  // Quads of another topology than the component's are kept (RemeshOptions::
+  // allow_topology_change), not replaced by the triangle split of run_component.
+  bool allow_topology_change = false;
   Stage last = Stage::extract;
   // Called as each stage begins, with its name in pipeline/progress.hpp kComponentStages, on the
   // thread that called run_component (never inside a parallel region), for a progress bar: the
@@ -157,6 +160,10 @@ struct ComponentRun {
   // Too small for patches (sizing.hpp kTriangleSplitBelowFaces): the quads are its triangles split
   // in three, patch per triangle, and the stages' results are empty.
   bool triangle_split = false;
+  // Why a component with enough faces for patches was split that way instead (empty: it was
+  // not): every stage's alternatives failed with an error, or the quads had another topology
+  // than the component's. The last resort of run_component, said as a warning.
+  std::string triangle_split_reason;
   // The surface the stages work on: the prepared component, subdivided `subdivisions` times,
   // with provenance in the component; its feature edges are the children of feature edges.
   RefinedMesh surface;

@@ -193,6 +193,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
   o.refine = opt.refine;
   o.patch_rounds = opt.patch_rounds;
   o.misfit_split = opt.misfit_split;
+  o.allow_topology_change = opt.allow_topology_change;
   // The field gives the corners; the repairs that re-segment (tips, patch counts, misfit
   // regions) or re-choose corners are VSA's, and run (pipeline.cpp) on the components that
   // fall back to VSA's patches.
@@ -225,7 +226,16 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
             topology_of(as_poly(r.quads), nullptr, nullptr, nullptr, nullptr, nullptr),
             opt.allow_topology_change))
       warn(run, *changed, say);
-    if (r.triangle_split)
+    if (r.triangle_split && !r.triangle_split_reason.empty())
+      warn(run,
+           {InputIssue::Severity::warning, "W114",
+            fmt::format("component {} could not be laid out ({}): each of its {} triangles split "
+                        "into three quads, {} quads",
+                        prep.components[c].report_index, r.triangle_split_reason,
+                        r.surface.mesh.num_faces(), r.quads.quads.size()),
+            1},
+           say);
+    else if (r.triangle_split)
       warn(run,
            {InputIssue::Severity::warning, "W109",
             fmt::format("component {} has {} faces, too few for patches: each triangle split "
@@ -359,6 +369,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"folded_after", r.misfit_split.folded_after},
                        {"kept", r.misfit_split.kept}}},
                      {"triangle_split", r.triangle_split},
+                     {"triangle_split_reason", r.triangle_split_reason},
                      {"patches", r.seg.num_patches},
                      {"meta_vertices", r.seg.meta.vertices.size()},
                      {"meta_vertex_valence", valence},

@@ -680,6 +680,50 @@ TEST(Remesh, LoneTriangleGivesThreeQuads) {
   EXPECT_EQ(run.warnings[0].code, "W109");
 }
 
+// A small closed piece of CGAL's bones.off (18 vertices, 32 triangles), which that model's
+// share of 1,500 quads gave about 8 quads: VSA's two patches came out as 4 quads of Euler
+// characteristic 3, and remesh stopped with E603. Every count gives valid quads of the piece's
+// topology; where the layout's quads would not be, each triangle is split into three (W114,
+// with the reason).
+TEST(Remesh, TooFewQuadsForAComponentStillGiveItsTopology) {
+  PolyMesh piece;
+  piece.positions = {
+      {3.18714, -1.3356, 1.83324},  {3.15548, -1.29781, 1.946},   {3.12972, -1.35805, 2.0506},
+      {3.13563, -1.45612, 2.04248}, {3.16733, -1.49395, 1.92961}, {3.19306, -1.43366, 1.82504},
+      {3.08065, -1.5508, 1.88887},  {3.12138, -1.4554, 1.72343},  {3.0305, -1.49094, 2.06747},
+      {3.02116, -1.33578, 2.08032}, {3.0619, -1.24045, 1.91481},  {3.112, -1.30026, 1.73639},
+      {2.99408, -1.43071, 1.69989}, {2.95528, -1.52163, 1.85755}, {2.94576, -1.46155, 2.03902},
+      {2.94188, -1.33261, 2.05038}, {2.94244, -1.2448, 1.88138},  {2.99018, -1.30179, 1.71136}};
+  for (const std::array<uint32_t, 3>& t : std::vector<std::array<uint32_t, 3>>{
+           {2, 3, 4},    {1, 2, 4},    {5, 1, 4},   {0, 1, 5},   {4, 6, 5},    {7, 5, 6},
+           {3, 6, 4},    {8, 6, 3},    {2, 8, 3},   {9, 8, 2},   {1, 10, 2},   {9, 2, 10},
+           {0, 10, 1},   {11, 10, 0},  {5, 7, 0},   {11, 0, 7},  {12, 16, 17}, {13, 16, 12},
+           {14, 16, 13}, {15, 16, 14}, {6, 13, 12}, {7, 6, 12},  {8, 14, 13},  {6, 8, 13},
+           {9, 15, 14},  {8, 9, 14},   {16, 15, 9}, {10, 16, 9}, {17, 16, 10}, {11, 17, 10},
+           {12, 17, 11}, {7, 12, 11}})
+    piece.add_face({t[0], t[1], t[2]});
+  uint32_t split = 0;
+  for (const double quads : {4.0, 6.0, 8.0}) {
+    RemeshOptions o;
+    o.quads = quads;
+    const RemeshRun run = remesh_run(piece, o);
+    const QualityReport q = measure_quality(run.result.quads, &piece);
+    EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented) << quads;
+    EXPECT_TRUE(q.same_topology) << quads;
+    EXPECT_EQ(q.sj_invalid, 0u) << quads;
+    ASSERT_EQ(run.runs.size(), 1u);
+    if (!run.runs[0].triangle_split) continue;
+    ++split;
+    EXPECT_EQ(run.result.quads.num_faces(), 96u);
+    EXPECT_NE(run.runs[0].triangle_split_reason.find("topology"), std::string::npos);
+    ASSERT_FALSE(run.warnings.empty());
+    EXPECT_EQ(run.warnings.back().code, "W114");
+    const auto report = nlohmann::json::parse(run.result.report);
+    EXPECT_EQ(report["components"][0]["triangle_split_reason"], run.runs[0].triangle_split_reason);
+  }
+  EXPECT_LE(split, 1u);  // the layout's quads where they are valid
+}
+
 // A sphere and a tetrahedron (4 faces, dropped before): both components are in the output,
 // the tetrahedron as 12 quads, and the whole is valid as every remesh output is; the JSON says
 // which component took that path.
