@@ -212,6 +212,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
           }
         }
         SegmentOptions so = SegmentOptions::sized(h, o.patches, o.seed);
+        so.piecewise_disks = o.piecewise_disks;
         so.tips = tips;
         so.vsa_labels = vsa;
         run.seg = segment(surface, run.surface_feature, so);
@@ -260,6 +261,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
       run.field_log.failure = fmt::format("the layout of the traced patches failed: {}", e.what());
       run.field_used = false;
       SegmentOptions so = SegmentOptions::sized(h, o.patches, o.seed);
+      so.piecewise_disks = o.piecewise_disks;
       run.seg = segment(surface, run.surface_feature, so);
       if (o.untangle && o.corner_retry_penalty > 0 && o.last != Stage::layout)
         segmented = run.seg.meta;
@@ -521,6 +523,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
         begin_stage(o, "segment");
         t0 = Clock::now();
         SegmentOptions so = SegmentOptions::sized(h, o.patches, o.seed);
+        so.piecewise_disks = o.piecewise_disks;
         const FaceData<uint32_t> split =
             split_vsa_regions(surface, run.surface_feature, run.seg.vsa_labels, regions, so.vsa);
         so.tips = tips;
@@ -1031,6 +1034,15 @@ ComponentRun run_component_unsmoothed(const PreparedMesh& prep, uint32_t c,
 
 namespace {
 
+// How the quads' topology differs from the component's (metrics/quality.hpp topology_change;
+// empty: it does not).
+std::string topology_change_of(const TriMesh& mesh, const QuadMesh& quads) {
+  const Topology input{mesh.euler_characteristic(), mesh.num_components(),
+                       uint32_t(mesh.boundary_loops().size())};
+  return topology_change(input,
+                         topology_of(as_poly(quads), nullptr, nullptr, nullptr, nullptr, nullptr));
+}
+
 // The component's triangles each split into three quads (split_triangles.hpp): valid on any
 // edge-manifold, oriented component, of its topology, but with no layout and as many quads as
 // the surface has corners, edges and faces.
@@ -1050,35 +1062,70 @@ ComponentRun triangle_split_run(const PreparedMesh& prep, uint32_t c, const Pipe
 }  // namespace
 
 ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineOptions& o) {
+  if (o.last != Stage::extract) return run_component_unsmoothed(prep, c, o);
   // A promise: every edge-manifold, oriented component gets valid quads of its topology. Where
-  // every alternative of the stages failed with an error, or the quads came out of another
-  // topology (a component given too few quads for its patches, a hole narrower than a quad),
-  // the triangle split is the last resort, said as such. Not for internal errors (bugs), nor
-  // for an edge length the caller gave that is too large for the component (E501 says which to
-  // give), nor where the split itself is not valid (zero-area triangles): those propagate.
-  const bool whole = o.last == Stage::extract;
+  // the stages end in an error after every alternative they try, or in quads that are not valid
+  // (another topology than the component's: a component given too few quads for its patches, a
+  // hole narrower than a quad; a quad at scaled Jacobian <= 0.001 against its own normal, or
+  // folded against the surface), VSA's patches each split into four-sided ones (the paper's
+  // section 5) are tried once, then the triangle split; each said as such. Not for internal
+  // errors (bugs), an edge length the caller gave that is too large for the component (E501
+  // says which to give), nor where the triangle split is not valid itself (zero-area triangles):
+  // then the stages' error or quads stand.
+  const TriMesh& mesh = prep.components.at(c).mesh;
+  // Why r's quads are not valid (empty: they are); `quads` also checks each quad. Spared that:
+  // four-sided patches the caller forced (PipelineOptions::quad_split: asking for the section 5
+  // split itself, with its known quads at 180-degree crease corners) and quads from a run with
+  // a repair switched off (the caller looks at what the others leave).
+  const bool repairs_on = o.untangle && o.fold_rounds > 0 && o.refine && o.patch_rounds &&
+                          o.misfit_split && o.tip_split;
+  const auto defect = [&](const ComponentRun& r, bool quads) -> std::string {
+    if (r.triangle_split) return "";
+    if (!o.allow_topology_change)
+      if (const std::string change = topology_change_of(mesh, r.quads); !change.empty())
+        return fmt::format("the quads' topology was not the component's ({})", change);
+    const uint32_t invalid = invalid_quads(r.quads), folded = r.untangle_report.nonpositive;
+    if (quads && repairs_on && (invalid > 0 || folded > 0))
+      return fmt::format(
+          "{} of its {} quads with scaled Jacobian <= {} against their own normal, {} folded "
+          "against the surface",
+          invalid, r.quads.quads.size(), kMinValidScaledJacobian, folded);
+    return "";
+  };
   ComponentRun run;
+  std::exception_ptr error;
+  std::string failure;
   try {
     run = run_component_unsmoothed(prep, c, o);
+    failure = defect(run, !o.quad_split);
   } catch (const Error& e) {
-    if (!whole || e.kind() == ErrorKind::internal || (e.code() == "E501" && o.edge_length > 0))
-      throw;
-    ComponentRun split = triangle_split_run(prep, c, o, e.what());
-    if (invalid_quads(split.quads) > 0) throw;
-    return split;
+    if (e.kind() == ErrorKind::internal || (e.code() == "E501" && o.edge_length > 0)) throw;
+    error = std::current_exception();
+    failure = e.what();
   }
-  if (whole && !run.triangle_split && !o.allow_topology_change) {
-    const TriMesh& mesh = prep.components[c].mesh;
-    const Topology input{mesh.euler_characteristic(), mesh.num_components(),
-                         uint32_t(mesh.boundary_loops().size())};
-    const std::string change = topology_change(
-        input, topology_of(as_poly(run.quads), nullptr, nullptr, nullptr, nullptr, nullptr));
-    if (!change.empty()) {
-      ComponentRun split = triangle_split_run(
-          prep, c, o, fmt::format("the quads' topology was not the component's ({})", change));
-      if (invalid_quads(split.quads) == 0) return split;
+  if (failure.empty()) {
+    smooth_last(prep, c, o, run);
+    return run;
+  }
+  if (!o.quad_split) {
+    PipelineOptions split = o;
+    split.field_layout = false;
+    split.quad_split = true;
+    split.piecewise_disks = true;
+    try {
+      ComponentRun four_sided = run_component_unsmoothed(prep, c, split);
+      if (defect(four_sided, true).empty()) {
+        four_sided.four_sided_reason = failure;
+        smooth_last(prep, c, o, four_sided);
+        return four_sided;
+      }
+    } catch (const Error& again) {
+      if (again.kind() == ErrorKind::internal) throw;
     }
   }
+  ComponentRun split = triangle_split_run(prep, c, o, failure);
+  if (invalid_quads(split.quads) == 0) return split;
+  if (error) std::rethrow_exception(error);
   smooth_last(prep, c, o, run);
   return run;
 }

@@ -94,6 +94,9 @@ struct PipelineOptions {
   // Quads of another topology than the component's are kept (RemeshOptions::
   // allow_topology_change), not replaced by the triangle split of run_component.
   bool allow_topology_change = false;
+  // SegmentOptions::piecewise_disks: run_component's four-sided alternative cuts VSA's patches
+  // into disks however small the handle or hole that keeps one from being a disk.
+  bool piecewise_disks = false;
   Stage last = Stage::extract;
   // Called as each stage begins, with its name in pipeline/progress.hpp kComponentStages, on the
   // thread that called run_component (never inside a parallel region), for a progress bar: the
@@ -164,6 +167,9 @@ struct ComponentRun {
   // not): every stage's alternatives failed with an error, or the quads had another topology
   // than the component's. The last resort of run_component, said as a warning.
   std::string triangle_split_reason;
+  // Why VSA's patches were split into four-sided ones (PipelineOptions::quad_split) though not
+  // asked for: the error every other alternative of the stages ended in (run_component).
+  std::string four_sided_reason;
   // The surface the stages work on: the prepared component, subdivided `subdivisions` times,
   // with provenance in the component; its feature edges are the children of feature edges.
   RefinedMesh surface;

@@ -235,6 +235,14 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                         r.surface.mesh.num_faces(), r.quads.quads.size()),
             1},
            say);
+    else if (!r.four_sided_reason.empty())
+      warn(run,
+           {InputIssue::Severity::warning, "W115",
+            fmt::format("component {} could not be laid out ({}): VSA's patches were each split "
+                        "into four-sided ones",
+                        prep.components[c].report_index, r.four_sided_reason),
+            1},
+           say);
     else if (r.triangle_split)
       warn(run,
            {InputIssue::Severity::warning, "W109",
@@ -370,6 +378,7 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
                        {"kept", r.misfit_split.kept}}},
                      {"triangle_split", r.triangle_split},
                      {"triangle_split_reason", r.triangle_split_reason},
+                     {"four_sided_reason", r.four_sided_reason},
                      {"patches", r.seg.num_patches},
                      {"meta_vertices", r.seg.meta.vertices.size()},
                      {"meta_vertex_valence", valence},

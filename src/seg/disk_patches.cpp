@@ -242,10 +242,11 @@ bool merge_island(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint
 
 // Geodesic Voronoi split of patch p into k cells seeded by farthest-point sampling on the dual
 // graph; accepted for the first k whose cells are all disks. Where no k up to 24 gives only
-// disks (a handle or a hole far smaller than a cell stays inside one), the k whose cells that are
-// not disks hold the fewest faces is taken: those cells are smaller than p, and the next round
-// of make_disk_patches cuts them again, so the repair still ends in disks.
-bool voronoi_split(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint32_t& n) {
+// disks (a handle or a hole far smaller than a cell stays inside one) and `piecewise`, the k
+// whose cells that are not disks hold the fewest faces is taken: those cells are smaller than p,
+// and the next round of make_disk_patches cuts them again, so the repair still ends in disks.
+bool voronoi_split(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint32_t& n,
+                   bool piecewise) {
   std::vector<uint32_t> faces;
   for (uint32_t f = 0; f < m.num_faces(); ++f)
     if (labels[f] == p) faces.push_back(f);
@@ -260,7 +261,7 @@ bool voronoi_split(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uin
   FaceData<uint32_t> fewest;  // the trial whose non-disk cells hold the fewest faces
   uint32_t fewest_k = 0, fewest_faces = uint32_t(faces.size());
   const auto take_fewest = [&] {
-    if (fewest_k == 0) return false;
+    if (!piecewise || fewest_k == 0) return false;
     labels = std::move(fewest);
     n += fewest_k - 1;
     return true;
@@ -297,7 +298,8 @@ bool voronoi_split(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uin
 
 }  // namespace
 
-uint32_t make_disk_patches(const TriMesh& m, FaceData<uint32_t>& labels, DiskRepairLog& log) {
+uint32_t make_disk_patches(const TriMesh& m, FaceData<uint32_t>& labels, DiskRepairLog& log,
+                           bool piecewise) {
   uint32_t n = compact_labels(labels);
   for (log.rounds = 1; log.rounds <= 64; ++log.rounds) {
     n = split_disconnected(m, labels, n, log);
@@ -327,7 +329,7 @@ uint32_t make_disk_patches(const TriMesh& m, FaceData<uint32_t>& labels, DiskRep
         changed = true;
         break;  // the labels changed under topo
       }
-      if (!voronoi_split(m, labels, p, n))
+      if (!voronoi_split(m, labels, p, n, piecewise))
         throw Error(
             ErrorKind::unsupported_topology, "E201",
             fmt::format(

@@ -21,9 +21,12 @@ struct DiskRepairLog {
 };
 
 // Relabels in place and returns the new number of patches (labels 0..n-1, ordered by first face).
-// \throw Error(unsupported_topology, E201) if a patch cannot be made a disk (no Voronoi split
-// of it leaves fewer faces in cells that are not disks).
-uint32_t make_disk_patches(const TriMesh& mesh, FaceData<uint32_t>& labels, DiskRepairLog& log);
+// \throw Error(unsupported_topology, E201) if a patch cannot be made a disk.
+// `piecewise`: where no Voronoi split of a patch gives only disks, keep the one whose non-disk
+// cells are smallest and cut those again in the next round (a handle or a hole far smaller than
+// a cell); otherwise E201, which the field layout takes as a traced layout to pass over.
+uint32_t make_disk_patches(const TriMesh& mesh, FaceData<uint32_t>& labels, DiskRepairLog& log,
+                           bool piecewise = false);
 
 // Renumbers labels 0..n-1 in order of first face; returns n.
 uint32_t compact_labels(FaceData<uint32_t>& labels);

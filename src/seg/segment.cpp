@@ -34,10 +34,10 @@ SegmentResult segment(const TriMesh& mesh, const EdgeData<char>& feature,
     r.vsa_labels = std::move(vsa.face_patch);
   }
   r.labels = r.vsa_labels;
-  r.num_patches = make_disk_patches(mesh, r.labels, r.repair);
+  r.num_patches = make_disk_patches(mesh, r.labels, r.repair, options.piecewise_disks);
   if (!options.tips.empty()) {
     split_patches_at_tips(mesh, options.tips, r.labels, r.num_patches, r.tip_split);
-    r.num_patches = make_disk_patches(mesh, r.labels, r.repair);
+    r.num_patches = make_disk_patches(mesh, r.labels, r.repair, options.piecewise_disks);
   }
   if (options.straighten) straighten_seams(mesh, r.labels, r.num_patches, feature, r.straighten);
   MetaMeshOptions first = options.meta;

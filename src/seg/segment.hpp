@@ -21,6 +21,8 @@ struct SegmentOptions {
   // A VSA partition of this mesh with these options from an earlier call, used instead of
   // running VSA again (the tips change only what follows it).
   const FaceData<uint32_t>* vsa_labels = nullptr;
+  // make_disk_patches's `piecewise` cut of non-disk patches (the pipeline's last alternatives).
+  bool piecewise_disks = false;
 
   // The options for a target quad edge length h (mesh units): it bounds K and the smallest
   // patch, and sets the window of boundary-corner detection.

@@ -724,6 +724,63 @@ TEST(Remesh, TooFewQuadsForAComponentStillGiveItsTopology) {
   EXPECT_LE(split, 1u);  // the layout's quads where they are valid
 }
 
+// A piece of CGAL's boeing.off (a half-open cylinder of 49 triangles, cut along a seam of
+// coincident vertices), which that model's share of 1,500 quads gave one quad, folded against
+// the surface and against its own normal. However few quads are asked for, the output is
+// valid: VSA's patches split four-sided (W115) or the triangles split in three (W114), with
+// the reason.
+TEST(Remesh, FoldedQuadsOfAComponentAreNotTheOutput) {
+  PolyMesh piece;
+  piece.positions = {
+      {-6, 1.625, -1.25},          {-6, 0.875, -1.25},          {-6, 1.61222, -1.15294},
+      {-6, 1.57476, -1.0625},      {-6, 1.51517, -0.984835},    {-6, 1.4375, -0.92524},
+      {-6, 1.34706, -0.887778},    {-6, 1.25, -0.875},          {-6, 1.15294, -0.887778},
+      {-6, 1.0625, -0.92524},      {-6, 0.984835, -0.984835},   {-6, 0.92524, -1.0625},
+      {-6, 0.887778, -1.15294},    {-5.75, 0.875, -1.25},       {-5.75, 0.875, -1.25},
+      {-5.75, 0.886781, -1.15674}, {-5.75, 0.921385, -1.06934}, {-5.75, 0.976637, -0.993295},
+      {-5.75, 1.04906, -0.933377}, {-5.75, 1.13412, -0.893354}, {-5.75, 1.22645, -0.87574},
+      {-5.75, 1.32027, -0.881642}, {-5.75, 1.40967, -0.91069},  {-5.75, 1.48903, -0.961058},
+      {-5.75, 1.55338, -1.02958},  {-5.75, 1.59867, -1.11195},  {-5.75, 1.62204, -1.203},
+      {-5.75, 1.62204, -1.297},    {-5.75, 1.59867, -1.38805},  {-5.75, 1.55338, -1.47042},
+      {-5.75, 1.48903, -1.53894},  {-5.75, 1.40967, -1.58931},  {-5.75, 1.32027, -1.61836},
+      {-5.75, 1.22645, -1.62426},  {-5.75, 1.13412, -1.60665},  {-5.75, 1.04906, -1.56662},
+      {-5.75, 0.976637, -1.50671}, {-5.75, 0.921385, -1.43066}, {-5.75, 0.886781, -1.34326},
+      {-6, 0.875, -1.25},          {-6, 0.887778, -1.34706},    {-6, 0.92524, -1.4375},
+      {-6, 0.984835, -1.51517},    {-6, 1.0625, -1.57476},      {-6, 1.15294, -1.61222},
+      {-6, 1.25, -1.625},          {-6, 1.34706, -1.61222},     {-6, 1.4375, -1.57476},
+      {-6, 1.51517, -1.51517},     {-6, 1.57476, -1.4375},      {-6, 1.61222, -1.34706}};
+  for (const std::array<uint32_t, 3>& t : std::vector<std::array<uint32_t, 3>>{
+           {18, 19, 9},  {17, 18, 10}, {11, 16, 17}, {16, 12, 15}, {20, 8, 19},  {6, 21, 22},
+           {23, 5, 22},  {3, 24, 25},  {4, 23, 24},  {7, 20, 21},  {26, 2, 25},  {10, 11, 17},
+           {18, 9, 10},  {11, 12, 16}, {1, 13, 15},  {1, 15, 12},  {9, 19, 8},   {8, 20, 7},
+           {6, 22, 5},   {5, 23, 4},   {3, 4, 24},   {21, 6, 7},   {25, 2, 3},   {26, 0, 2},
+           {50, 27, 28}, {49, 28, 29}, {31, 32, 46}, {29, 30, 48}, {47, 30, 31}, {40, 37, 38},
+           {39, 38, 14}, {33, 34, 44}, {35, 36, 42}, {34, 35, 43}, {37, 41, 36}, {32, 33, 45},
+           {28, 49, 50}, {30, 47, 48}, {29, 48, 49}, {47, 31, 46}, {27, 50, 0},  {37, 40, 41},
+           {32, 45, 46}, {45, 33, 44}, {34, 43, 44}, {42, 43, 35}, {41, 42, 36}, {39, 40, 38},
+           {27, 0, 26}})
+    piece.add_face({t[0], t[1], t[2]});
+  uint32_t mended = 0;
+  for (const double quads : {1.0, 2.0, 4.0}) {
+    RemeshOptions o;
+    o.quads = quads;
+    const RemeshRun run = remesh_run(piece, o);
+    const QualityReport q = measure_quality(run.result.quads, &piece);
+    EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented) << quads;
+    EXPECT_TRUE(q.same_topology) << quads;
+    EXPECT_EQ(q.sj_invalid, 0u) << quads;
+    EXPECT_EQ(q.sj_surface_nonpositive, 0u) << quads;
+    ASSERT_EQ(run.runs.size(), 1u);
+    const ComponentRun& r = run.runs[0];
+    const std::string& reason = r.triangle_split ? r.triangle_split_reason : r.four_sided_reason;
+    if (reason.empty()) continue;
+    ++mended;
+    EXPECT_NE(reason.find("scaled Jacobian"), std::string::npos) << reason;
+    EXPECT_EQ(run.warnings.back().code, r.triangle_split ? "W114" : "W115");
+  }
+  EXPECT_GE(mended, 1u);  // the layout's one quad is folded at 1
+}
+
 // A sphere and a tetrahedron (4 faces, dropped before): both components are in the output,
 // the tetrahedron as 12 quads, and the whole is valid as every remesh output is; the JSON says
 // which component took that path.

@@ -9,6 +9,7 @@
 #include "core/refined_mesh.hpp"
 #include "corpus.hpp"
 #include "io/read_mesh.hpp"
+#include "isoquad/error.hpp"
 #include "prep/prepare.hpp"
 #include "seg/geodesic.hpp"
 #include "seg/patch_topology.hpp"
@@ -179,7 +180,8 @@ TEST(Disk, OpenTubeBecomesLongStripsNotRings) {
 
 // A sphere with a handle two triangles long between neighbouring faces, in one patch: every
 // Voronoi cell of up to 24 seeds that holds the handle is not a disk, so the split keeps the
-// one whose non-disk cells are smallest and the next round cuts those again (E201 before).
+// one whose non-disk cells are smallest and the next round cuts those again (piecewise; without
+// it E201).
 TEST(Disk, TinyHandleInOnePatchIsCutAway) {
   PolyMesh m = test::icosphere(4);
   const auto centroid = [&](std::size_t f) {
@@ -220,7 +222,10 @@ TEST(Disk, TinyHandleInOnePatchIsCutAway) {
   }
   const PreparedComponent comp = prepared(handled);
   ASSERT_EQ(comp.mesh.euler_characteristic(), 0);  // a torus: the handle is a handle
-  const SegmentResult r = segment(comp.mesh, comp.feature, with_patches(1));
+  SegmentOptions o = with_patches(1);
+  EXPECT_THROW(segment(comp.mesh, comp.feature, o), Error);  // E201, as the field layout wants
+  o.piecewise_disks = true;
+  const SegmentResult r = segment(comp.mesh, comp.feature, o);
   EXPECT_GE(r.repair.voronoi_splits, 2u);
   expect_valid(comp.mesh, r);
 }
