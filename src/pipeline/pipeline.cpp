@@ -1068,10 +1068,10 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   // (another topology than the component's: a component given too few quads for its patches, a
   // hole narrower than a quad; a quad at scaled Jacobian <= 0.001 against its own normal, or
   // folded against the surface), VSA's patches each split into four-sided ones (the paper's
-  // section 5) are tried once, then the triangle split; each said as such. Not for internal
-  // errors (bugs), an edge length the caller gave that is too large for the component (E501
-  // says which to give), nor where the triangle split is not valid itself (zero-area triangles):
-  // then the stages' error or quads stand.
+  // section 5) are tried once, then the triangle split; each said as such. Not for the stages'
+  // internal errors (bugs), an edge length the caller gave that is too large for the component
+  // (E501 says which to give), nor where the triangle split is not valid itself (zero-area
+  // triangles): then the stages' error or quads stand, whatever the alternatives ended in.
   const TriMesh& mesh = prep.components.at(c).mesh;
   // Why r's quads are not valid (empty: they are); `quads` also checks each quad. Spared that:
   // four-sided patches the caller forced (PipelineOptions::quad_split: asking for the section 5
@@ -1119,8 +1119,9 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
         smooth_last(prep, c, o, four_sided);
         return four_sided;
       }
-    } catch (const Error& again) {
-      if (again.kind() == ErrorKind::internal) throw;
+    } catch (const Error&) {
+      // Even an internal error here (a bug of the section 5 split on this input) leaves the
+      // error or the quads the stages ended in as the answer, not this alternative's.
     }
   }
   ComponentRun split = triangle_split_run(prep, c, o, failure);
