@@ -162,6 +162,12 @@ uint32_t invalid_quads(const QuadMesh& quads) {
   return n;
 }
 
+// How two tries compare where either is kept whole: fewer quads at or below the validity bound
+// (UntangleReport::degenerate, which holds those at or below 0) first, then fewer at or below 0.
+std::pair<uint32_t, uint32_t> invalid_score(const UntangleReport& r) {
+  return {r.degenerate, r.nonpositive};
+}
+
 // A run's quads, their two-sided distance to `surface` (sampled as `isoquad quality` does) over
 // `diagonal`, and its folded quads.
 SizeRound measure_run(const ComponentRun& run, const AabbTree& surface, double diagonal) {
@@ -436,7 +442,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   repair_folds();
 
   // Folds left still: choose the corners again with other prices, and repair again; the run
-  // with the fewest folded quads is kept (ties: the earlier). In order, while quads fold:
+  // with the fewest invalid quads is kept (ties: the earlier). In order, while quads fold:
   //  - a price on corners on straight creases, where the mesh has creases (such a corner's quad
   //    opens to 180 degrees between vertices that may only slide along the crease);
   //  - a price on every corner at a flat place (above 150 degrees);
@@ -448,7 +454,9 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   // the default size. As tries where quads still fold, each can only help (knot1 at the default
   // size: 25 -> 0 by the flat price, its strip ends had corners at flat places).
   // The layout, map, quads and fold repairs again (after new corners or patches): whether fewer
-  // quads fold than in `before`.
+  // quads are invalid than in `before` (invalid_score: a quad at a scaled Jacobian of 0.0005
+  // fails the output as one at -0.5 does, and a 180-degree corner held to a crease is one that
+  // no pass after this opens).
   auto solve_again = [&](const UntangleReport& before) {
     begin_stage(o, "layout");
     t0 = Clock::now();
@@ -456,7 +464,7 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
     run.layout_seconds += seconds_since(t0);
     param_and_extract();
     repair_folds();
-    return fold_score(run.untangle_report) < fold_score(before);
+    return invalid_score(run.untangle_report) < invalid_score(before);
   };
   struct CornerTry {
     double flat = 0, crease = 0, angle_weight = 0;
@@ -501,7 +509,8 @@ void run_stages(double h, const PipelineOptions& o, const std::vector<uint32_t>&
   }
   // Folds left still, and patches whose shape no rectangle follows (layout/layout.hpp
   // misfit_patches): their VSA regions are cut in two (seg/vsa.hpp split_vsa_regions) and the
-  // stages run again from there; kept if fewer quads fold. The last try: it changes the patches.
+  // stages run again from there; kept if fewer quads are invalid. The last try: it changes the
+  // patches.
   if (o.misfit_split && !run.field_used && !run.quad_split && o.fold_rounds > 0 &&
       run.untangle_report.degenerate > 0) {
     // Each patch's VSA region (for a patch that took in a tiny neighbour in the disk repair,
@@ -1065,13 +1074,14 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   if (o.last != Stage::extract) return run_component_unsmoothed(prep, c, o);
   // A promise: every edge-manifold, oriented component gets valid quads of its topology. Where
   // the stages end in an error after every alternative they try, or in quads that are not valid
-  // (another topology than the component's: a component given too few quads for its patches, a
-  // hole narrower than a quad; a quad at scaled Jacobian <= 0.001 against its own normal, or
-  // folded against the surface), VSA's patches each split into four-sided ones (the paper's
-  // section 5) are tried once, then the triangle split; each said as such. Not for the stages'
-  // internal errors (bugs), an edge length the caller gave that is too large for the component
-  // (E501 says which to give), nor where the triangle split is not valid itself (zero-area
-  // triangles): then the stages' error or quads stand, whatever the alternatives ended in.
+  // once smoothed, as they are output (another topology than the component's: a component given too
+  // few quads for its patches, a hole narrower than a quad; a quad at scaled Jacobian <= 0.001
+  // against its own normal, or folded against the surface), VSA's patches each split into
+  // four-sided ones (the paper's section 5) are tried once, then the triangle split; each said as
+  // such. Not for the stages' internal errors (bugs), an edge length the caller gave that is too
+  // large for the component (E501 says which to give), nor where the triangle split is not valid
+  // itself (zero-area triangles): then the stages' error or quads stand, whatever the alternatives
+  // ended in.
   const TriMesh& mesh = prep.components.at(c).mesh;
   // Why r's quads are not valid (empty: they are); `quads` also checks each quad. Spared that:
   // four-sided patches the caller forced (PipelineOptions::quad_split: asking for the section 5
@@ -1097,16 +1107,14 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   std::string failure;
   try {
     run = run_component_unsmoothed(prep, c, o);
+    smooth_last(prep, c, o, run);
     failure = defect(run, !o.quad_split);
   } catch (const Error& e) {
     if (e.kind() == ErrorKind::internal || (e.code() == "E501" && o.edge_length > 0)) throw;
     error = std::current_exception();
     failure = e.what();
   }
-  if (failure.empty()) {
-    smooth_last(prep, c, o, run);
-    return run;
-  }
+  if (failure.empty()) return run;
   if (!o.quad_split) {
     PipelineOptions split = o;
     split.field_layout = false;
@@ -1114,9 +1122,9 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
     split.piecewise_disks = true;
     try {
       ComponentRun four_sided = run_component_unsmoothed(prep, c, split);
+      smooth_last(prep, c, o, four_sided);
       if (defect(four_sided, true).empty()) {
         four_sided.four_sided_reason = failure;
-        smooth_last(prep, c, o, four_sided);
         return four_sided;
       }
     } catch (const Error&) {
@@ -1127,7 +1135,6 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   ComponentRun split = triangle_split_run(prep, c, o, failure);
   if (invalid_quads(split.quads) == 0) return split;
   if (error) std::rethrow_exception(error);
-  smooth_last(prep, c, o, run);
   return run;
 }
 
