@@ -32,6 +32,9 @@ void to_json(nlohmann::json& j, const ComponentReport& r) {
        {"feature_edges", r.feature_edges},
        {"min_angle_deg", r.min_angle_deg},
        {"zero_area_faces", r.zero_area_faces},
+       {"zero_area_collapsed", r.zero_area_collapsed},
+       {"zero_area_flipped", r.zero_area_flipped},
+       {"zero_area_dropped", r.zero_area_dropped},
        {"flat_flips", r.flat_flips}};
 }
 

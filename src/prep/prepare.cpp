@@ -1,6 +1,7 @@
 #include "prep/prepare.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -60,7 +61,6 @@ void shape_statistics(const std::vector<Vec3>& positions, const std::vector<Tri>
     const Vec3 &p0 = positions[t[0]], &p1 = positions[t[1]], &p2 = positions[t[2]];
     const double a = 0.5 * norm(cross(p1 - p0, p2 - p0));
     area += a;
-    if (a < 1e-14) ++r.zero_area_faces;  // the mesh fits a unit-diagonal box
     for (int i = 0; i < 3; ++i) {
       const Vec3 u = positions[t[(i + 1) % 3]] - positions[t[i]];
       const Vec3 v = positions[t[(i + 2) % 3]] - positions[t[i]];
@@ -251,6 +251,10 @@ PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
       fin.push_back(s.tri_input[t]);
     }
     shape_statistics(positions, tris, working.scale, to_input, r);
+    const prep::ZeroAreaRepair zero = prep::repair_zero_area(positions, tris, vin, fin);
+    r.zero_area_collapsed = zero.collapsed;
+    r.zero_area_flipped = zero.flipped;
+    r.zero_area_faces = zero.left;
     if (options.flip_flat)
       r.flat_flips = prep::flip_flat_edges(positions, tris, prep::kFlatTolerance);
     PreparedComponent pc;
@@ -260,6 +264,18 @@ PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
     pc.feature = prep::mark_features(pc.mesh, options.feature_angle_deg);
     pc.report_index = uint32_t(c);
     r.feature_edges = uint32_t(std::count(pc.feature.begin(), pc.feature.end(), 1));
+    std::vector<std::string> how;
+    if (zero.collapsed > 0)
+      how.push_back(
+          fmt::format("collapsed {} edges shorter than a thousandth of their "
+                      "triangle's longest (the surface moved {:.3g} at most)",
+                      zero.collapsed, std::ldexp(zero.moved / working.scale, to_input)));
+    if (zero.flipped > 0) how.push_back(fmt::format("flipped {} edges", zero.flipped));
+    if (zero.dropped > 0) how.push_back(fmt::format("removed {} on the boundary", zero.dropped));
+    r.zero_area_dropped = zero.dropped;
+    note(report, Severity::repaired, "W116", zero.collapsed + zero.flipped + zero.dropped,
+         fmt::format("component {}: zero-area triangles repaired, the topology kept: {}", c,
+                     fmt::join(how, "; ")));
     note(report, Severity::warning, "W110", r.zero_area_faces,
          fmt::format("component {} has {} faces of (near-)zero area", c, r.zero_area_faces));
     note(report, Severity::repaired, "W111", r.flat_flips,

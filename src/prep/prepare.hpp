@@ -51,8 +51,10 @@ struct ComponentReport {
   bool kept = true;  // false: rejected (non-orientable)
   double area = 0;   // in input units
   uint32_t feature_edges = 0;
-  double min_angle_deg = 0;  // of the input's triangles, before the flips below
-  uint32_t zero_area_faces = 0;
+  double min_angle_deg = 0;      // of the input's triangles, before the flips below
+  uint32_t zero_area_faces = 0;  // left after the repair below (prep/steps.hpp kZeroArea)
+  // That repair: needle edges collapsed, cap edges flipped, caps on the boundary removed.
+  uint32_t zero_area_collapsed = 0, zero_area_flipped = 0, zero_area_dropped = 0;
   uint32_t flat_flips = 0;  // edges flipped inside flat regions (PrepOptions::flip_flat)
 };
 

@@ -62,6 +62,25 @@ constexpr double kFlatTolerance = 1e-7;
 uint32_t flip_flat_edges(const std::vector<Vec3>& positions, std::vector<Tri>& tris,
                          double tolerance);
 
+// A triangle of a prepared component (unit bounding-box diagonal) with less area than this has
+// zero area as far as the later stages can tell.
+constexpr double kZeroArea = 1e-14;
+
+struct ZeroAreaRepair {
+  uint32_t collapsed =
+      0;                 // needle edges collapsed (two triangles each inside, one on the boundary)
+  uint32_t flipped = 0;  // cap edges flipped
+  uint32_t dropped = 0;  // caps on the boundary removed
+  uint32_t left = 0;     // zero-area triangles left (on the boundary, or where a change would
+                         // alter the topology)
+  double moved = 0;      // the longest edge collapsed: how far the surface moved at most
+};
+// Removes zero-area triangles without changing the topology (degenerate.cpp); the vertex and
+// triangle input maps follow.
+ZeroAreaRepair repair_zero_area(std::vector<Vec3>& positions, std::vector<Tri>& tris,
+                                std::vector<uint32_t>& vertex_input,
+                                std::vector<uint32_t>& tri_input);
+
 EdgeData<char> mark_features(const TriMesh& mesh, double feature_angle_deg);
 
 }  // namespace isoquad::prep

@@ -235,15 +235,18 @@ class Errors(unittest.TestCase):
         e = self.assert_raises(isoquad.LayoutError, "E501", isoquad.remesh, V, F, edge_length=1e3)
         self.assertEqual(e.exit_status, 4)
 
-    def test_a_vertex_on_its_neighbour_is_a_solver_error(self):
-        # Coincident vertices and zero-area triangles: the map's matrix is singular (as in the
-        # command line's test Cli.RemeshJsonStdoutIsOneDocumentWhateverHappens).
+    def test_a_vertex_on_its_neighbour_is_repaired_and_remeshed(self):
+        # Coincident vertices and zero-area triangles: the edge between them is collapsed before
+        # anything else (W116), as in the command line's test
+        # Cli.RemeshJsonStdoutIsOneDocumentWhateverHappens; the map's matrix was singular (E551).
         V, F = isoquad.read(DATA / "sphere.off")
         face = next(f for f in F if 5 in f)
         V = V.copy()
         V[5] = V[face[(list(face).index(5) + 1) % 3]]
-        e = self.assert_raises(isoquad.SolverError, "E551", isoquad.remesh, V, F, quads=300)
-        self.assertEqual(e.exit_status, 5)
+        _, _, report = isoquad.remesh(V, F, quads=300)
+        self.assertIn("W116", [w["code"] for w in report["warnings"]])
+        self.assertTrue(report["quality"]["same_topology"])
+        self.assertEqual(report["quality"]["scaled_jacobian"]["at_most_0.001"], 0)
 
     def test_bad_shapes_and_dtypes_are_value_errors(self):
         V, F = isoquad.read(DATA / "sphere.off")

@@ -5,6 +5,7 @@
 
 #include <numbers>
 #include <numeric>
+#include <set>
 
 #include "corpus.hpp"
 #include "io/read_mesh.hpp"
@@ -554,5 +555,87 @@ TEST(Prepare, NonFiniteCoordinateIsE013NamingTheVertex) {
     ASSERT_EQ(p.report.issues.size(), 1u);
     EXPECT_EQ(p.report.issues[0].code, "E013");
     EXPECT_TRUE(p.components.empty());
+  }
+}
+
+namespace {
+uint32_t zero_area_triangles(const TriMesh& m) {
+  uint32_t n = 0;
+  for (const Tri& t : m.faces())
+    n += 0.5 *
+             norm(cross(m.position(t[1]) - m.position(t[0]), m.position(t[2]) - m.position(t[0]))) <
+         prep::kZeroArea;
+  return n;
+}
+uint32_t issue_count(const InputReport& r, const std::string& code) {
+  uint32_t n = 0;
+  for (const InputIssue& i : r.issues)
+    if (i.code == code) n += i.count;
+  return n;
+}
+}  // namespace
+
+// Zero-area triangles left the map's system singular (E551: a sphere with a vertex moved onto
+// its neighbour). They are repaired before anything else, keeping the topology: a needle's short
+// edge collapses (two triangles and a vertex fewer), a cap's long edge flips (the same counts),
+// a cap on the boundary goes (its vertex joins the boundary). Each is a W116 repair.
+TEST(Prepare, ZeroAreaTrianglesAreRepairedKeepingTheTopology) {
+  const PolyMesh sphere = test::icosphere(3);
+  const uint32_t v0 = sphere.num_vertices(), f0 = uint32_t(sphere.num_faces());
+  {
+    PolyMesh m = sphere;  // a vertex on its neighbour
+    const auto f = m.face(7);
+    m.positions[f[0]] = m.positions[f[1]];
+    const PreparedMesh p = prepare(m);
+    ASSERT_EQ(p.components.size(), 1u);
+    const TriMesh& mesh = p.components[0].mesh;
+    EXPECT_EQ(p.report.components[0].zero_area_collapsed, 1u);
+    EXPECT_EQ(issue_count(p.report, "W116"), 1u);
+    EXPECT_EQ(mesh.num_vertices(), v0 - 1);
+    EXPECT_EQ(mesh.num_faces(), f0 - 2);
+    EXPECT_EQ(mesh.euler_characteristic(), 2);
+    EXPECT_EQ(zero_area_triangles(mesh), 0u);
+    EXPECT_EQ(p.components[0].input_vertex.size(), mesh.num_vertices());
+    EXPECT_EQ(p.components[0].input_face.size(), mesh.num_faces());
+  }
+  {
+    PolyMesh m = sphere;  // a vertex on the middle of its opposite edge
+    const auto f = m.face(7);
+    m.positions[f[2]] = 0.5 * (m.positions[f[0]] + m.positions[f[1]]);
+    const PreparedMesh p = prepare(m);
+    const TriMesh& mesh = p.components.at(0).mesh;
+    EXPECT_EQ(p.report.components[0].zero_area_flipped, 1u);
+    EXPECT_EQ(issue_count(p.report, "W116"), 1u);
+    EXPECT_EQ(mesh.num_vertices(), v0);
+    EXPECT_EQ(mesh.num_faces(), f0);
+    EXPECT_EQ(mesh.euler_characteristic(), 2);
+    EXPECT_EQ(zero_area_triangles(mesh), 0u);
+  }
+  {
+    // A plate: an interior vertex moved onto the middle of a boundary edge of its triangle.
+    PolyMesh m = test::grid_plate(6, 6);
+    std::set<std::pair<uint32_t, uint32_t>> directed;
+    for (std::size_t f = 0; f < m.num_faces(); ++f)
+      for (int k = 0; k < 3; ++k) directed.insert({m.face(f)[k], m.face(f)[(k + 1) % 3]});
+    std::vector<char> on_boundary(m.num_vertices(), 0);
+    for (const auto& [a, b] : directed)
+      if (!directed.count({b, a})) on_boundary[a] = on_boundary[b] = 1;
+    bool moved = false;
+    for (std::size_t f = 0; f < m.num_faces() && !moved; ++f)
+      for (int k = 0; k < 3 && !moved; ++k) {
+        const uint32_t a = m.face(f)[k], b = m.face(f)[(k + 1) % 3], c = m.face(f)[(k + 2) % 3];
+        if (!directed.count({b, a}) && !on_boundary[c]) {
+          m.positions[c] = 0.5 * (m.positions[a] + m.positions[b]);
+          moved = true;
+        }
+      }
+    ASSERT_TRUE(moved);
+    const PreparedMesh p = prepare(m);
+    const TriMesh& mesh = p.components.at(0).mesh;
+    EXPECT_EQ(p.report.components[0].zero_area_dropped, 1u);
+    EXPECT_EQ(mesh.num_faces(), m.num_faces() - 1);
+    EXPECT_EQ(mesh.euler_characteristic(), 1);
+    EXPECT_EQ(mesh.boundary_loops().size(), 1u);
+    EXPECT_EQ(zero_area_triangles(mesh), 0u);
   }
 }
