@@ -78,7 +78,8 @@ void add_remesh_options(CLI::App& app, RemeshArgs& args) {
                 "with 1.5, then 2 times as many patches at the same size, and the first run "
                 "that reaches the distance with no more folded quads is kept; with --quads N, "
                 "also a run at least a quarter nearer than the one kept before, with no more "
-                "folded quads and at most 1.1 N quads, and a run not kept ends the rounds)");
+                "folded quads and at most 1.1 N quads, and a run not kept ends the rounds; a run "
+                "with fewer folded quads is kept whatever its distance)");
   sub->add_flag("--no-misfit-split", a->no_misfit_split,
                 "Keep the patches as they are where quads still fold after every other repair "
                 "(by default the patches whose rectangle cannot follow their shape, one side "

@@ -945,8 +945,12 @@ ComponentRun run_sized(const PreparedMesh& prep, uint32_t c, const PipelineOptio
     rounds.push_back({again->seg.vsa_patches, r});
     const SizeRound& best = rounds[kept].result;
     const bool reached = r.distance <= target;
-    const bool keep = r.folded <= best.folded && (!counted || double(r.quads) <= most) &&
-                      (reached || (counted && r.distance <= kRefineGain * best.distance));
+    // Fewer folded quads win whatever the distance: a fold makes the output invalid, a distance
+    // does not.
+    const bool keep = (!counted || double(r.quads) <= most) &&
+                      (r.folded < best.folded ||
+                       (r.folded == best.folded &&
+                        (reached || (counted && r.distance <= kRefineGain * best.distance))));
     const ComponentRun& loser = keep ? run : *again;
     unkept.add(loser);
     if (keep) {

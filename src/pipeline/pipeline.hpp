@@ -82,7 +82,8 @@ struct PipelineOptions {
   // kPatchGrowth[i] times the automatic patch count, at the same size. A run is kept over the
   // one kept before with no more folded quads where it reaches the target (which ends the
   // rounds) or, with a quad count asked for, within kCountSlack of it and nearer than
-  // kRefineGain of the kept distance (a round not kept then ends the rounds). Patches too big for
+  // kRefineGain of the kept distance (a round not kept then ends the rounds); and, within the
+  // count, wherever it folds fewer quads, whatever its distance. Patches too big for
   // the detail they hold make the harmonic map crowd it into a few stretched quads, which neither
   // tips nor refinement undo (the cow's head at the default size and at 1,500 quads).
   bool patch_rounds = true;

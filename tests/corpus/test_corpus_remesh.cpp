@@ -263,8 +263,9 @@ void expect_folds_said(const std::vector<std::string>& said, const PolyMesh& qua
 
 // Patch rounds follow where the run (after its tips and refinement) is beyond the distance
 // target: each with more VSA patches than the one before. A round is kept over the round kept
-// before it with no more folds, within 1.1 times the count asked for (`asked`; 0: the default
-// size), and within the target or, with a count asked for, nearer than kRefineGain of it; a kept
+// before it within 1.1 times the count asked for (`asked`; 0: the default size) with fewer folds,
+// or with as many and within the target or, with a count asked for, nearer than kRefineGain of
+// it; a kept
 // round within the target is the last, and so is, within a count, a round not kept. The kept
 // round's figures and patches are the output's.
 void expect_patch_rounds_kept_only_if_better(const RemeshRun& run, double asked) {
@@ -278,9 +279,10 @@ void expect_patch_rounds_kept_only_if_better(const RemeshRun& run, double asked)
       const SizeRound &now = rounds[k].result, &best = rounds[kept].result;
       EXPECT_GT(rounds[k].patches, rounds[k - 1].patches);
       const bool within = asked <= 0 || double(now.quads) <= kCountSlack * asked * r.area_share;
-      if (within && now.folded <= best.folded &&
-          (now.distance <= kTipTarget ||
-           (asked > 0 && now.distance <= kRefineGain * best.distance)))
+      if (within && (now.folded < best.folded ||
+                     (now.folded == best.folded &&
+                      (now.distance <= kTipTarget ||
+                       (asked > 0 && now.distance <= kRefineGain * best.distance)))))
         kept = k;
       if (kept == k && now.distance <= kTipTarget) {
         EXPECT_EQ(k + 1, rounds.size()) << "a round within the target is the last";
