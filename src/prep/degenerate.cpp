@@ -9,8 +9,6 @@ namespace isoquad::prep {
 
 namespace {
 
-uint64_t edge_key(uint32_t from, uint32_t to) { return uint64_t(from) << 32 | to; }
-
 double area_of(const std::vector<Vec3>& x, const Tri& t) {
   return 0.5 * norm(cross(x[t[1]] - x[t[0]], x[t[2]] - x[t[0]]));
 }

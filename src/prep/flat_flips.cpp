@@ -11,8 +11,6 @@ namespace {
 
 const double kNeedle = 10 * std::numbers::pi / 180;  // a triangle with a smaller angle
 
-uint64_t edge_key(uint32_t from, uint32_t to) { return uint64_t(from) << 32 | to; }
-
 // The angle at p of the triangle p, q, r.
 double angle_at(const Vec3& p, const Vec3& q, const Vec3& r) { return angle_between(q - p, r - p); }
 

@@ -254,6 +254,7 @@ PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
     const prep::ZeroAreaRepair zero = prep::repair_zero_area(positions, tris, vin, fin);
     r.zero_area_collapsed = zero.collapsed;
     r.zero_area_flipped = zero.flipped;
+    r.zero_area_dropped = zero.dropped;
     r.zero_area_faces = zero.left;
     if (options.flip_flat)
       r.flat_flips = prep::flip_flat_edges(positions, tris, prep::kFlatTolerance);
@@ -272,7 +273,6 @@ PreparedMesh prepare(const PolyMesh& input, const PrepOptions& options) {
                       zero.collapsed, std::ldexp(zero.moved / working.scale, to_input)));
     if (zero.flipped > 0) how.push_back(fmt::format("flipped {} edges", zero.flipped));
     if (zero.dropped > 0) how.push_back(fmt::format("removed {} on the boundary", zero.dropped));
-    r.zero_area_dropped = zero.dropped;
     note(report, Severity::repaired, "W116", zero.collapsed + zero.flipped + zero.dropped,
          fmt::format("component {}: zero-area triangles repaired, the topology kept: {}", c,
                      fmt::join(how, "; ")));

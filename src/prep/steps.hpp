@@ -7,6 +7,9 @@
 
 namespace isoquad::prep {
 
+// A directed edge as a hash key, for the halfedge maps of the steps that change triangles.
+inline uint64_t edge_key(uint32_t from, uint32_t to) { return uint64_t(from) << 32 | to; }
+
 // Triangles over a working vertex set that remembers where everything came from.
 struct Soup {
   std::vector<Vec3> positions;         // per working vertex
@@ -67,13 +70,13 @@ uint32_t flip_flat_edges(const std::vector<Vec3>& positions, std::vector<Tri>& t
 constexpr double kZeroArea = 1e-14;
 
 struct ZeroAreaRepair {
-  uint32_t collapsed =
-      0;                 // needle edges collapsed (two triangles each inside, one on the boundary)
+  // Needle edges collapsed (two triangles each inside, one on the boundary).
+  uint32_t collapsed = 0;
   uint32_t flipped = 0;  // cap edges flipped
   uint32_t dropped = 0;  // caps on the boundary removed
-  uint32_t left = 0;     // zero-area triangles left (on the boundary, or where a change would
-                         // alter the topology)
-  double moved = 0;      // the longest edge collapsed: how far the surface moved at most
+  // Zero-area triangles left (where no change keeps the topology).
+  uint32_t left = 0;
+  double moved = 0;  // the longest edge collapsed: how far the surface moved at most
 };
 // Removes zero-area triangles without changing the topology (degenerate.cpp); the vertex and
 // triangle input maps follow.

@@ -766,3 +766,37 @@ TEST(CorpusSubdivision, StopsBeforeTheFaceCap) {
   EXPECT_EQ(r.mesh.num_faces(), 64 * comp.mesh.num_faces());
   EXPECT_LE(r.mesh.num_faces(), 250000u);
 }
+
+// Zero-area triangles on a real mesh: fandisk (creases, CAD) with one vertex moved onto a
+// neighbour (two zero-area triangles, E551 before) and another onto the middle of its opposite
+// edge (a cap). Preparation collapses the one edge and flips the other (W116), and the remesh
+// is valid, of the input's topology, near the count asked for.
+TEST(CorpusZeroArea, VertexOnANeighbourAndOnAnEdgeAreRepairedAndRemeshed) {
+  ISOQUAD_CORPUS_MESH(path, "fandisk.off");
+  ReadResult input = read_mesh(path);
+  PolyMesh& m = input.mesh;
+  const auto a = m.face(100), b = m.face(3000);
+  ASSERT_EQ(std::count_if(a.begin(), a.end(),
+                          [&](uint32_t v) { return std::find(b.begin(), b.end(), v) != b.end(); }),
+            0);
+  m.positions[a[0]] = m.positions[a[1]];
+  m.positions[b[2]] = 0.5 * (m.positions[b[0]] + m.positions[b[1]]);
+  RemeshOptions o;
+  o.quads = 1500;
+  const RemeshRun run = remesh_run(m, o, input.unshared_vertices, [](const std::string&) {});
+  const ComponentReport& c = run.prep.report.components.at(0);
+  EXPECT_EQ(c.zero_area_collapsed, 1u);
+  EXPECT_EQ(c.zero_area_flipped, 1u);
+  EXPECT_EQ(c.zero_area_faces, 0u);
+  uint32_t said = 0;
+  for (const InputIssue& i : run.prep.report.issues)
+    if (i.code == "W116") said += i.count;
+  EXPECT_EQ(said, 2u);
+  const QualityReport q = measure_quality(run.result.quads, &input.mesh);
+  EXPECT_TRUE(q.pure_quad && q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_TRUE(q.same_topology);
+  EXPECT_EQ(q.sj_invalid, 0u);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  EXPECT_NEAR(double(run.result.quads.num_faces()), 1500.0, 150.0);
+  for (const ComponentRun& r : run.runs) EXPECT_FALSE(r.triangle_split);
+}
