@@ -92,6 +92,8 @@ Runner add_segment(CLI::App& app) {
              {"voronoi_splits", seg.repair.voronoi_splits},
              {"two_path_cuts", seg.repair.two_path_cuts},
              {"islands_merged", seg.repair.islands_merged},
+             {"strips_cut", seg.repair.strips_cut},
+             {"handles_cut", seg.repair.handles_cut},
              {"tiny_merged", seg.repair.tiny_merged}}},
            {"straighten",
             {{"ears", seg.straighten.ears},
@@ -106,13 +108,13 @@ Runner add_segment(CLI::App& app) {
             "component {}: {} patches ({} from VSA), {} meta-vertices ({} inserted), {} "
             "meta-edges, "
             "euler {}; repairs: {} split, {} pinches, {} voronoi, {} two-path, {} islands, {} "
-            "tiny; "
+            "strips, {} handles, {} tiny; "
             "straightened {} ears, {} "
             "geodesic, seams {:.3g} -> {:.3g}\n",
             c.report_index, seg.num_patches, seg.vsa_patches, mm.vertices.size(), mm.inserted,
             mm.edges.size(), mm.euler(), seg.repair.disconnected_split, seg.repair.pinches_fixed,
             seg.repair.voronoi_splits, seg.repair.two_path_cuts, seg.repair.islands_merged,
-            seg.repair.tiny_merged, seg.straighten.ears, seg.straighten.geodesic,
+            seg.repair.strips_cut, seg.repair.handles_cut, seg.repair.tiny_merged, seg.straighten.ears, seg.straighten.geodesic,
             seg.straighten.seam_length_before, seg.straighten.seam_length_after);
       const TriMesh& rm = seg.refined.mesh;
       const uint32_t base = uint32_t(out.positions.size());

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/face_regions.hpp"
+#include "core/union_find.hpp"
 #include "isoquad/error.hpp"
 #include "seg/geodesic.hpp"
 #include "seg/patch_topology.hpp"
@@ -120,10 +121,55 @@ std::vector<std::vector<uint32_t>> loops_of(const TriMesh& m, const FaceData<uin
   return loops;
 }
 
+// The faces of patch p on the left of a path of vertices (a cycle if `closed`): at every inner
+// vertex w (from u, to x) the faces turning counterclockwise from w->x to w->u; at an open path's
+// ends, on the patch boundary, the whole fan on the left, so that the rest is not pinched there.
+// Empty where an edge of the path is missing or a turn does not end.
+std::vector<uint32_t> left_faces(const TriMesh& m, const FaceData<uint32_t>& labels, uint32_t p,
+                                 const std::vector<uint32_t>& path, bool closed) {
+  std::vector<uint32_t> faces;
+  const std::size_t k = path.size();
+  const auto halfedge = [&](uint32_t a, uint32_t b) {
+    uint32_t found = kInvalid;
+    m.for_each_outgoing(a, [&](uint32_t h) {
+      if (m.to(h) == b) found = h;
+    });
+    return found;
+  };
+  const auto in_p = [&](uint32_t h) { return h != kInvalid && labels[TriMesh::face_of(h)] == p; };
+  for (std::size_t i = 0; i < k; ++i) {
+    const bool first = !closed && i == 0, last = !closed && i + 1 == k;
+    const uint32_t u = path[(i + k - 1) % k], x = path[(i + 1) % k];
+    uint32_t o = last ? halfedge(path[i], u) : halfedge(path[i], x);
+    if (o == kInvalid) return {};
+    for (uint32_t turns = 0;; ++turns) {
+      if (turns > 256) return {};
+      if (last) {  // clockwise from w->u while in p
+        const uint32_t t = m.twin(o);
+        if (!in_p(t)) break;
+        faces.push_back(TriMesh::face_of(t));
+        o = TriMesh::next(t);
+      } else {  // counterclockwise from w->x, to w->u or while in p at the first vertex
+        if ((!first && m.to(o) == u) || !in_p(o)) break;
+        faces.push_back(TriMesh::face_of(o));
+        o = m.twin(TriMesh::prev(o));
+        if (o == kInvalid) break;
+      }
+    }
+    if (!first && !last && m.to(o) != u) return {};
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
 // Two-path cut of a patch with several boundary loops (DESIGN.md §2.2c): the shortest path from
 // a hole to the outer loop, and a second one as far from the first as possible, cut the patch
-// into two (an annulus into two disks: long strips along a tube, not rings).
-bool two_path_cut(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint32_t& n) {
+// into two (an annulus into two disks: long strips along a tube, not rings). With `strip`, round a
+// hole too small for a second path two edges away from the first, the faces along the first
+// become a patch of their own: a strip from the hole to the outer loop.
+bool two_path_cut(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint32_t& n,
+                  bool strip) {
   auto loops = loops_of(m, labels, p);
   if (loops.size() < 2) return false;
   auto length = [&](const std::vector<uint32_t>& loop) {
@@ -178,12 +224,28 @@ bool two_path_cut(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint
   const ShortestPaths away =
       vertex_dijkstra(m, g1, [&](uint32_t v, uint32_t) { return in_p[v] != 0; });
   const double clearance = 2.0 * edge_sum / std::max(edge_count, 1u);
+  const auto strip_cut = [&] {
+    FaceData<uint32_t> trial = labels;
+    std::vector<uint32_t> faces;
+    for (uint32_t f = 0; f < m.num_faces(); ++f)
+      if (labels[f] == p) faces.push_back(f);
+    for (uint32_t f : left_faces(m, labels, p, g1, false)) trial[f] = n;
+    const auto topo = local_patch_topology(m, trial, faces, {p, n});
+    const PatchTopology before = local_patch_topology(m, labels, faces, {p})[0];
+    // The strip a disk, the rest one hole fewer and no handle more.
+    if (!topo[1].is_disk() || topo[0].boundary_loops + 1 != before.boundary_loops ||
+        topo[0].euler() != before.euler() + 1)
+      return false;
+    labels = std::move(trial);
+    ++n;
+    return true;
+  };
   uint32_t start2 = kInvalid;
   for (uint32_t v : hole_vertices)
     if (away.distance[v] < INFINITY &&
         (start2 == kInvalid || away.distance[v] > away.distance[start2]))
       start2 = v;
-  if (start2 == kInvalid || away.distance[start2] < clearance) return false;
+  if (start2 == kInvalid || away.distance[start2] < clearance) return strip && strip_cut();
   const ShortestPaths d2 = vertex_dijkstra(
       m, {start2},
       [&](uint32_t v, uint32_t e) {
@@ -192,7 +254,7 @@ bool two_path_cut(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint
       },
       [&](uint32_t v) { return on_outer[v] != 0; });
   const uint32_t end2 = first_outer(d2);
-  if (end2 == kInvalid) return false;
+  if (end2 == kInvalid) return strip && strip_cut();
   const std::vector<uint32_t> g2 = d2.path_to(end2);
 
   // Flood the patch without crossing the two paths.
@@ -210,6 +272,95 @@ bool two_path_cut(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint
   for (uint32_t f = 0; f < m.num_faces(); ++f)
     if (labels[f] == p && piece[f] > 0) labels[f] = n + piece[f] - 1;
   n += pieces - 1;
+  return true;
+}
+
+// A patch with a handle: the faces along one side of a short non-separating cycle become a new
+// patch, a ring round the handle, which the two-path cut then cuts into disks. The cycle is found
+// by tree-cotree (Erickson and Whittlesey 2005): a shortest-path tree T over the patch's interior
+// vertices, every boundary loop capped by one dual node, and a maximum spanning tree C of the
+// dual graph by the length of each edge's cycle through T; an edge in neither closes a cycle that
+// C does not cross, so the patch stays connected when cut along it. Of those edges the one with
+// the shortest cycle is taken. A Voronoi split cannot separate a handle far smaller than its
+// cells; this cut does, whatever the handle's size. True if a handle was cut.
+bool cut_handle(const TriMesh& m, FaceData<uint32_t>& labels, uint32_t p, uint32_t& n) {
+  const auto loops = loops_of(m, labels, p);
+  std::vector<uint32_t> loop_of(m.num_halfedges(), kInvalid);
+  std::vector<char> on_boundary(m.num_vertices(), 0);
+  for (uint32_t l = 0; l < loops.size(); ++l)
+    for (uint32_t h : loops[l]) {
+      loop_of[h] = l;
+      on_boundary[m.from(h)] = 1;
+    }
+  std::vector<uint32_t> faces, local(m.num_faces(), kInvalid);
+  for (uint32_t f = 0; f < m.num_faces(); ++f)
+    if (labels[f] == p) {
+      local[f] = uint32_t(faces.size());
+      faces.push_back(f);
+    }
+  uint32_t root = kInvalid;
+  for (uint32_t f : faces)
+    for (uint32_t v : m.face(f))
+      if (!on_boundary[v]) root = std::min(root, v);
+  if (root == kInvalid) return false;
+  const ShortestPaths tree = vertex_dijkstra(m, {root}, [&](uint32_t v, uint32_t e) {
+    const uint32_t h = m.edge_halfedge(e);
+    return !on_boundary[v] && m.twin(h) != kInvalid && labels[TriMesh::face_of(h)] == p &&
+           labels[TriMesh::face_of(m.twin(h))] == p;
+  });
+  const auto in_tree = [&](uint32_t h) {
+    return tree.predecessor[m.to(h)] == m.from(h) || tree.predecessor[m.from(h)] == m.to(h);
+  };
+  // The dual edges: one per edge of the patch outside T, to the cap of its loop on the boundary.
+  struct Dual {
+    double cycle;
+    uint32_t h, a, b;
+  };
+  std::vector<Dual> duals;
+  for (uint32_t f : faces)
+    for (uint32_t k = 0; k < 3; ++k) {
+      const uint32_t h = 3 * f + k, t = m.twin(h);
+      const bool boundary = loop_of[h] != kInvalid;
+      if (in_tree(h) || (!boundary && h > t)) continue;
+      const double cycle = tree.distance[m.from(h)] + tree.distance[m.to(h)] +
+                           norm(m.position(m.to(h)) - m.position(m.from(h)));
+      duals.push_back(
+          {cycle, h, local[f],
+           boundary ? uint32_t(faces.size()) + loop_of[h] : local[TriMesh::face_of(t)]});
+    }
+  std::stable_sort(duals.begin(), duals.end(),
+                   [](const Dual& x, const Dual& y) { return x.cycle > y.cycle; });
+  UnionFind cotree(faces.size() + loops.size());
+  const Dual* shortest = nullptr;
+  for (const Dual& d : duals) {
+    if (cotree.find(d.a) != cotree.find(d.b)) {
+      cotree.unite(d.a, d.b);
+    } else if (d.cycle < INFINITY) {
+      shortest = &d;  // the list runs from long to short cycles
+    }
+  }
+  if (!shortest) return false;
+  // The cycle: from the two paths' last common vertex through one end, the edge, the other end.
+  const std::vector<uint32_t> pa = tree.path_to(m.from(shortest->h));
+  const std::vector<uint32_t> pb = tree.path_to(m.to(shortest->h));
+  std::size_t common = 0;
+  while (common + 1 < pa.size() && common + 1 < pb.size() && pa[common + 1] == pb[common + 1])
+    ++common;
+  std::vector<uint32_t> cycle(pa.begin() + std::ptrdiff_t(common), pa.end());
+  cycle.insert(cycle.end(), pb.rbegin(), pb.rend() - std::ptrdiff_t(common) - 1);
+  if (cycle.size() < 3) return false;
+  // The ring: the faces on the cycle's left.
+  const std::vector<uint32_t> ring = left_faces(m, labels, p, cycle, true);
+  if (ring.empty()) return false;
+  FaceData<uint32_t> trial = labels;
+  for (uint32_t f : ring) trial[f] = n;
+  const auto genus = [](const PatchTopology& t) { return 2 - t.euler() - t.boundary_loops; };
+  const auto topo = local_patch_topology(m, trial, faces, {p, n});
+  if (topo[1].euler() != 0 || topo[1].boundary_loops != 2 ||
+      genus(topo[0]) >= genus(local_patch_topology(m, labels, faces, {p})[0]))
+    return false;
+  labels = std::move(trial);
+  ++n;
   return true;
 }
 
@@ -319,7 +470,7 @@ uint32_t make_disk_patches(const TriMesh& m, FaceData<uint32_t>& labels, DiskRep
     bool changed = false;
     for (uint32_t p = 0; p < topo.size(); ++p) {
       if (topo[p].is_disk()) continue;
-      if (topo[p].boundary_loops >= 2 && two_path_cut(m, labels, p, n)) {
+      if (topo[p].boundary_loops >= 2 && two_path_cut(m, labels, p, n, false)) {
         ++log.two_path_cuts;
         changed = true;
         continue;
@@ -329,7 +480,24 @@ uint32_t make_disk_patches(const TriMesh& m, FaceData<uint32_t>& labels, DiskRep
         changed = true;
         break;  // the labels changed under topo
       }
-      if (!voronoi_split(m, labels, p, n, piecewise))
+      if (voronoi_split(m, labels, p, n, false)) {
+        ++log.voronoi_splits;
+        changed = true;
+        continue;
+      }
+      // A hole or a handle far smaller than a Voronoi cell: a strip from the hole to the outer
+      // loop, or a ring round the handle, however thin.
+      if (topo[p].boundary_loops >= 2 && two_path_cut(m, labels, p, n, true)) {
+        ++log.strips_cut;
+        changed = true;
+        continue;
+      }
+      if (topo[p].euler() + topo[p].boundary_loops < 2 && cut_handle(m, labels, p, n)) {
+        ++log.handles_cut;
+        changed = true;
+        continue;
+      }
+      if (!piecewise || !voronoi_split(m, labels, p, n, true))
         throw Error(
             ErrorKind::unsupported_topology, "E201",
             fmt::format(

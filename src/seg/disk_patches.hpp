@@ -17,6 +17,8 @@ struct DiskRepairLog {
   uint32_t two_path_cuts = 0;       // patches with holes cut along two paths
   uint32_t tiny_merged = 0;         // patches too small for four corners, merged into a neighbour
   uint32_t islands_merged = 0;      // disks inside a hole of a patch (a narrow ring round them)
+  uint32_t strips_cut = 0;          // strips from a small hole to the outer loop
+  uint32_t handles_cut = 0;         // rings cut off round a handle inside a patch
   uint32_t rounds = 0;
 };
 

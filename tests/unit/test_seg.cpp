@@ -8,9 +8,12 @@
 
 #include "core/refined_mesh.hpp"
 #include "corpus.hpp"
+#include "marching_tets.hpp"
+#include "stress_parametric.hpp"
 #include "io/read_mesh.hpp"
 #include "isoquad/error.hpp"
 #include "prep/prepare.hpp"
+#include "seg/disk_patches.hpp"
 #include "seg/geodesic.hpp"
 #include "seg/patch_topology.hpp"
 #include "seg/segment.hpp"
@@ -162,6 +165,51 @@ TEST(Disk, AnnulusIsCutIntoTwoDisks) {
   expect_valid(c.mesh, r);
 }
 
+// One label over a surface whose hole or handle is far smaller than the cells a Voronoi split of
+// 24 seeds makes: the hole gets a strip to the outer loop, the handle a ring round it, and every
+// patch ends a disk.
+FaceData<uint32_t> disk_patches_from_one(const TriMesh& m, DiskRepairLog& log) {
+  FaceData<uint32_t> labels(m.num_faces(), 0u);
+  const uint32_t n = make_disk_patches(m, labels, log);
+  const auto topo = patch_topology(m, labels, n);
+  for (uint32_t p = 0; p < n; ++p)
+    EXPECT_TRUE(topo[p].is_disk()) << "patch " << p << ": " << topo[p].boundary_loops
+                                   << " loops, euler " << topo[p].euler();
+  for (uint32_t v = 0; v < m.num_vertices(); ++v) {
+    const auto w = wedges_at(m, labels, v);
+    for (std::size_t i = 0; i < w.size(); ++i)
+      for (std::size_t j = i + 1; j < w.size(); ++j)
+        EXPECT_NE(w[i].patch, w[j].patch) << "patch " << w[i].patch << " pinched at vertex " << v;
+  }
+  return labels;
+}
+
+TEST(Disk, SmallHoleGetsAStripToTheOuterLoop) {
+  const PreparedComponent c =
+      prepared(test::plate_with_holes(4, 4, {{{1.3, 2.2, 0.03}}}, 0.05), 0);
+  ASSERT_EQ(c.mesh.boundary_loops().size(), 2u);
+  DiskRepairLog log;
+  disk_patches_from_one(c.mesh, log);
+  EXPECT_EQ(log.strips_cut, 1u);
+  EXPECT_EQ(log.voronoi_splits, 0u);
+}
+
+TEST(Disk, SmallHandleGetsARingRoundIt) {
+  // A unit sphere with a ring of radius 0.2 and thickness 0.07 across its top: genus 1.
+  const auto f = [](const Vec3& p) {
+    const Vec3 q = p - Vec3{0, 0, 1};
+    const double ring = std::hypot(std::hypot(q.y, q.z) - 0.2, q.x) - 0.09;
+    return std::min(norm(p) - 1, ring);
+  };
+  const PreparedComponent c = prepared(
+      test::largest_component(test::marching_tets(f, {-1.3, -1.3, -1.3}, {1.3, 1.3, 1.4}, 0.05)),
+      0);
+  ASSERT_EQ(c.mesh.euler_characteristic(), 0);
+  DiskRepairLog log;
+  disk_patches_from_one(c.mesh, log);
+  EXPECT_EQ(log.handles_cut, 1u);
+}
+
 TEST(Disk, OpenTubeBecomesLongStripsNotRings) {
   const PreparedComponent c = prepared(test::open_cylinder(24, 40));
   const SegmentResult r = segment(c.mesh, c.feature, with_patches(1));
@@ -179,9 +227,8 @@ TEST(Disk, OpenTubeBecomesLongStripsNotRings) {
 }
 
 // A sphere with a handle two triangles long between neighbouring faces, in one patch: every
-// Voronoi cell of up to 24 seeds that holds the handle is not a disk, so the split keeps the
-// one whose non-disk cells are smallest and the next round cuts those again (piecewise; without
-// it E201).
+// Voronoi cell of up to 24 seeds that holds the handle is not a disk, so a ring of faces round
+// the handle is cut off, piecewise or not.
 TEST(Disk, TinyHandleInOnePatchIsCutAway) {
   PolyMesh m = test::icosphere(4);
   const auto centroid = [&](std::size_t f) {
@@ -222,12 +269,13 @@ TEST(Disk, TinyHandleInOnePatchIsCutAway) {
   }
   const PreparedComponent comp = prepared(handled);
   ASSERT_EQ(comp.mesh.euler_characteristic(), 0);  // a torus: the handle is a handle
-  SegmentOptions o = with_patches(1);
-  EXPECT_THROW(segment(comp.mesh, comp.feature, o), Error);  // E201, as the field layout wants
-  o.piecewise_disks = true;
-  const SegmentResult r = segment(comp.mesh, comp.feature, o);
-  EXPECT_GE(r.repair.voronoi_splits, 2u);
-  expect_valid(comp.mesh, r);
+  for (const bool piecewise : {false, true}) {
+    SegmentOptions o = with_patches(1);
+    o.piecewise_disks = piecewise;
+    const SegmentResult r = segment(comp.mesh, comp.feature, o);
+    EXPECT_EQ(r.repair.handles_cut, 1u);
+    expect_valid(comp.mesh, r);
+  }
 }
 
 TEST(Disk, TorusInOnePatch) {
