@@ -109,6 +109,10 @@ void add_remesh_options(CLI::App& app, RemeshArgs& args) {
                 "Keep quads whose topology (genus, boundary loops, connected pieces) differs "
                 "from their input component's, with a warning (W113; by default that is an "
                 "error, E603)");
+  sub->add_flag("--allow-invalid", a->allow_invalid,
+                "Where no alternative gives a component valid quads (scaled Jacobian above "
+                "0.001 against their own normal), keep its best quads with a warning (W117; by "
+                "default that is an error, E604)");
   sub->add_option("--threads", a->threads,
                   "Worker threads at most (0: one per core); the output is the same for any count")
       ->check(number_in(0, 1e6, "a thread count (0: one per core)"))
@@ -150,6 +154,7 @@ RemeshOptions remesh_options(const RemeshArgs& a) {
   o.improve_corners = a.improve_corners;
   o.threads = a.threads;
   o.allow_topology_change = a.allow_topology_change;
+  o.allow_invalid = a.allow_invalid;
   return o;
 }
 

@@ -147,6 +147,7 @@ PYBIND11_MODULE(_core, m) {
   ISOQUAD_FIELD(tolerance);
   ISOQUAD_FIELD(tolerance_rounds);
   ISOQUAD_FIELD(allow_topology_change);
+  ISOQUAD_FIELD(allow_invalid);
   ISOQUAD_FIELD(quality);
   ISOQUAD_FIELD(threads);
 #undef ISOQUAD_FIELD

@@ -61,6 +61,10 @@ struct RemeshOptions {
   // Quads whose topology (genus, boundary loops, connected pieces) differs from their input
   // component's are an error (E603) unless this is set: then a warning (W113) in the report.
   bool allow_topology_change = false;
+  // A component for which no alternative gives valid quads (each at a scaled Jacobian above
+  // 0.001 against its own normal) is an error (E604) unless this is set: then its best quads are
+  // kept with a warning (W117) that says how many are not valid and where.
+  bool allow_invalid = false;
   bool quality = true;   // measure the output against the input (in `report`)
   uint32_t threads = 0;  // worker threads at most (0: all cores); same output for any
 };
@@ -103,7 +107,8 @@ struct RemeshResult {
 //        a negative or non-finite edge length, both of them, a feature angle outside [0, 180],
 //        ...), E020 wrong shapes or an index out of range, E013 a NaN or infinite coordinate;
 //        Error(extraction) E603 a component's quads of another topology than the component
-//        (unless options.allow_topology_change); and the errors of the stages (README).
+//        (unless options.allow_topology_change), E604 a component with no valid quads from any
+//        alternative (unless options.allow_invalid); and the errors of the stages (README).
 RemeshResult remesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                     const RemeshOptions& options = {}, const ProgressCallback& progress = {});
 

@@ -148,7 +148,8 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
            feature_angle=60.0, repair=False, weld_eps=0.0, weld_all=False, smooth=None,
            untangle=True, snap=True, fold_rounds=2, split_patches=False, tip_split=True,
            refine=True, patch_rounds=True, misfit_split=True, tolerance=0.0, tolerance_rounds=2,
-           allow_topology_change=False, threads=0, quality=True, progress=None):
+           allow_topology_change=False, allow_invalid=False, threads=0, quality=True,
+           progress=None):
     """Remesh a triangle mesh into a pure quad mesh: returns (V, Q, report).
 
     V: float64 (n, 3) positions; F: integer (m, 3) triangles (or (m, k) polygons padded with
@@ -194,6 +195,8 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
       allow_topology_change  keep quads whose topology (genus, boundary loops, connected
                        pieces) differs from their component's, with warning W113 in
                        report["warnings"] (by default an ExtractionError, E603)
+      allow_invalid    where no alternative gives a component valid quads, keep its best
+                       ones with warning W117 (by default an ExtractionError, E604)
       threads          worker threads at most (0: all cores); the output is the same for any
       quality          measure the quads against the input into report["quality"]
       progress         called as progress(fraction, stage, message) as each stage begins and
@@ -240,6 +243,7 @@ def remesh(V, F, quads=None, edge_length=None, *, patches="auto", seed=1, weight
     o.tolerance = float(tolerance)
     o.tolerance_rounds = _count("tolerance_rounds", tolerance_rounds)
     o.allow_topology_change = bool(allow_topology_change)
+    o.allow_invalid = bool(allow_invalid)
     o.threads = _count("threads", threads)
     o.quality = bool(quality)
     Vq, Q, patch, report = _core.remesh(V, F, o, progress)

@@ -83,6 +83,7 @@ def remesh(
     tolerance: float = ...,
     tolerance_rounds: int = ...,
     allow_topology_change: bool = ...,
+    allow_invalid: bool = ...,
     threads: int = ...,
     quality: bool = ...,
     progress: Optional[Progress] = ...,

@@ -1091,8 +1091,7 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
   // four-sided patches the caller forced (PipelineOptions::quad_split: asking for the section 5
   // split itself, with its known quads at 180-degree crease corners) and quads from a run with
   // a repair switched off (the caller looks at what the others leave).
-  const bool repairs_on = o.untangle && o.fold_rounds > 0 && o.refine && o.patch_rounds &&
-                          o.misfit_split && o.tip_split;
+  const bool repairs_on = o.repairs_on();
   const auto defect = [&](const ComponentRun& r, bool quads) -> std::string {
     if (r.triangle_split) return "";
     if (!o.allow_topology_change)
@@ -1119,6 +1118,8 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
     failure = e.what();
   }
   if (failure.empty()) return run;
+  std::vector<std::string> failed{
+      fmt::format("{}: {}", o.field_layout ? "the patches" : "VSA's patches", failure)};
   if (!o.quad_split) {
     PipelineOptions split = o;
     split.field_layout = false;
@@ -1127,18 +1128,25 @@ ComponentRun run_component(const PreparedMesh& prep, uint32_t c, const PipelineO
     try {
       ComponentRun four_sided = run_component_unsmoothed(prep, c, split);
       smooth_last(prep, c, o, four_sided);
-      if (defect(four_sided, true).empty()) {
+      const std::string defect_four = defect(four_sided, true);
+      if (defect_four.empty()) {
         four_sided.four_sided_reason = failure;
         return four_sided;
       }
-    } catch (const Error&) {
+      failed.push_back("four-sided patches: " + defect_four);
+    } catch (const Error& e) {
       // Even an internal error here (a bug of the section 5 split on this input) leaves the
       // error or the quads the stages ended in as the answer, not this alternative's.
+      failed.push_back(fmt::format("four-sided patches: {}", e.what()));
     }
   }
   ComponentRun split = triangle_split_run(prep, c, o, failure);
-  if (invalid_quads(split.quads) == 0) return split;
+  const uint32_t split_invalid = invalid_quads(split.quads);
+  if (split_invalid == 0) return split;
+  failed.push_back(fmt::format("the triangle split: {} of its {} quads with scaled Jacobian <= {}",
+                               split_invalid, split.quads.quads.size(), kMinValidScaledJacobian));
   if (error) std::rethrow_exception(error);
+  run.alternatives_failed = std::move(failed);
   return run;
 }
 

@@ -103,6 +103,13 @@ struct PipelineOptions {
   // thread that called run_component (never inside a parallel region), for a progress bar: the
   // stages compute nothing from it.
   std::function<void(const char* stage)> stage_begins;
+
+  // Every repair pass on and the patches not forced four-sided: run_component then tries its
+  // alternatives where quads are not valid. Otherwise the caller looks at what the passes leave.
+  bool repairs_on() const {
+    return untangle && fold_rounds > 0 && refine && patch_rounds && misfit_split && tip_split &&
+           !quad_split;
+  }
 };
 
 constexpr double kToleranceMaxGrowth = 4;
@@ -171,6 +178,9 @@ struct ComponentRun {
   // Why VSA's patches were split into four-sided ones (PipelineOptions::quad_split) though not
   // asked for: the error every other alternative of the stages ended in (run_component).
   std::string four_sided_reason;
+  // Where no alternative gave valid quads: what each one ended in, in the order tried
+  // (run_component; remesh names them in its error E604 or warning W117).
+  std::vector<std::string> alternatives_failed;
   // The surface the stages work on: the prepared component, subdivided `subdivisions` times,
   // with provenance in the component; its feature edges are the children of feature edges.
   RefinedMesh surface;

@@ -61,7 +61,8 @@ nlohmann::json options_json(const RemeshOptions& o) {
           {"refine", o.refine},
           {"patch_rounds", o.patch_rounds},
           {"misfit_split", o.misfit_split},
-          {"allow_topology_change", o.allow_topology_change}};
+          {"allow_topology_change", o.allow_topology_change},
+          {"allow_invalid", o.allow_invalid}};
 }
 
 // Every option out of its range is refused (E003) before any work, rather than read as the
@@ -125,6 +126,62 @@ std::optional<InputIssue> check_component_topology(uint32_t component, const Top
                 what + "; --allow-topology-change (allow_topology_change) keeps them");
   return InputIssue{InputIssue::Severity::warning, "W113", what + ", kept as allowed", 1};
 }
+
+namespace {
+
+// Where a component's quads are not valid: how many, the worst one's centre (input units) and
+// the input face nearest to it, and what was tried. An error (E604) unless `allow` or a repair
+// was switched off (the caller looks at what the passes leave), then W117.
+std::optional<InputIssue> check_component_validity(const PreparedMesh& prep, uint32_t c,
+                                                   const ComponentRun& r, bool allow,
+                                                   bool repairs_off) {
+  const QuadMesh& q = r.quads;
+  uint32_t invalid = 0, worst = 0;
+  double worst_value = INFINITY;
+  for (uint32_t i = 0; i < q.quads.size(); ++i) {
+    const auto& v = q.quads[i];
+    const double sj = quad_scaled_jacobian(
+        {q.positions[v[0]], q.positions[v[1]], q.positions[v[2]], q.positions[v[3]]});
+    if (sj > kMinValidScaledJacobian) continue;
+    ++invalid;
+    if (sj < worst_value) worst_value = sj, worst = i;
+  }
+  if (invalid == 0) return std::nullopt;
+  const auto& v = q.quads[worst];
+  const Vec3 centre =
+      (q.positions[v[0]] + q.positions[v[1]] + q.positions[v[2]] + q.positions[v[3]]) / 4.0;
+  const PreparedComponent& comp = prep.components[c];
+  uint32_t nearest = 0;
+  double nearest_distance = INFINITY;
+  for (uint32_t f = 0; f < comp.mesh.num_faces(); ++f) {
+    const auto t = comp.mesh.face(f);
+    const double d = norm(
+        (comp.mesh.position(t[0]) + comp.mesh.position(t[1]) + comp.mesh.position(t[2])) / 3.0 -
+        centre);
+    if (d < nearest_distance) nearest_distance = d, nearest = f;
+  }
+  std::string tried;
+  for (const std::string& a : r.alternatives_failed) tried += (tried.empty() ? "" : "; ") + a;
+  if (repairs_off)
+    tried = "the patches with a repair switched off or four-sided patches asked for";
+  else if (tried.empty())
+    tried = r.triangle_split ? "the triangle split, the only one for so few faces"
+                             : "the patches, the only alternative run";
+  const Vec3 at = prep.normalization.invert(centre);
+  const std::string what = fmt::format(
+      "component {}: no alternative gave valid quads: {} of {} have scaled Jacobian <= {} "
+      "against their own normal, the worst ({:.3g}) at ({:.6g}, {:.6g}, {:.6g}) near input face "
+      "{}; tried: {}",
+      comp.report_index, invalid, q.quads.size(), kMinValidScaledJacobian, worst_value, at.x, at.y,
+      at.z, comp.input_face[nearest], tried);
+  if (!allow && !repairs_off)
+    throw Error(ErrorKind::extraction, "E604",
+                what + "; --allow-invalid (allow_invalid) keeps them");
+  return InputIssue{InputIssue::Severity::warning, "W117",
+                    what + (repairs_off ? ", kept" : ", kept as allowed"), invalid};
+}
+
+}  // namespace
 
 PrepOptions prep_options(const RemeshOptions& o, bool unshared_vertices) {
   PrepOptions po;
@@ -226,6 +283,9 @@ RemeshRun remesh_run(const PolyMesh& input, const RemeshOptions& opt, bool unsha
             topology_of(as_poly(r.quads), nullptr, nullptr, nullptr, nullptr, nullptr),
             opt.allow_topology_change))
       warn(run, *changed, say);
+    if (const auto invalid =
+            check_component_validity(prep, c, r, opt.allow_invalid, !o.repairs_on()))
+      warn(run, *invalid, say);
     if (r.triangle_split && !r.triangle_split_reason.empty())
       warn(run,
            {InputIssue::Severity::warning, "W114",

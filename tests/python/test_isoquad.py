@@ -99,6 +99,13 @@ class Remesh(unittest.TestCase):
             self.assertIs(report["options"]["allow_topology_change"], allow)
             self.assertFalse(any(w["code"] == "W113" for w in report["warnings"]))
 
+    def test_allow_invalid_is_passed_and_echoed(self):
+        V, F = isoquad.read(DATA / "sphere.off")
+        for allow in (False, True):
+            _, _, report = isoquad.remesh(V, F, quads=300, quality=False, allow_invalid=allow)
+            self.assertIs(report["options"]["allow_invalid"], allow)
+            self.assertFalse(any(w["code"] == "W117" for w in report["warnings"]))
+
     def test_the_report_has_the_peak_memory(self):
         # getrusage's peak for the whole process, this one's numpy included: more than a MB.
         V, F = isoquad.read(DATA / "sphere.off")

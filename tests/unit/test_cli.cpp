@@ -696,6 +696,35 @@ TEST(Cli, CollapsesThatSufficeSkipTheFoldRounds) {
   std::filesystem::remove(without);
 }
 
+// A plate whose three triangles on one line no repair can open (flipping their edges only moves
+// the zero area): neither the patches nor the triangle split give valid quads, so remesh stops
+// with E604 naming the place, and leaves no file; --allow-invalid keeps the quads with W117.
+TEST(Cli, RemeshWithNoValidAlternativeIsAnErrorUnlessAllowed) {
+  const auto in = write_temp("isoquad_cli_collinear.off",
+                             "OFF\n8 8 0\n6 -4 0\n9 0 0\n6 0 0\n3 0 0\n1.5 0 0\n4.5 0 0\n7.5 0 0\n"
+                             "4.5 4 0\n3 0 1 2\n3 0 2 3\n3 3 2 4\n3 2 1 6\n3 2 6 4\n3 4 6 5\n"
+                             "3 5 6 7\n3 4 5 7\n");
+  const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_collinear_quads.obj";
+  std::filesystem::remove(out);
+  const CliRun r = run("remesh -q " + in.string() + " -o " + out.string());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("[E604]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("near input face"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--allow-invalid"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const CliRun kept = run("remesh -q --json --allow-invalid " + in.string() + " -o " + out.string());
+  ASSERT_EQ(kept.status, 0) << kept.err;
+  const auto doc = nlohmann::json::parse(kept.out);
+  uint32_t said = 0;
+  for (const auto& w : doc["warnings"])
+    if (w["code"] == "W117") said += w["count"].get<uint32_t>();
+  EXPECT_GT(said, 0u);
+  EXPECT_EQ(said, doc["quality"]["scaled_jacobian"]["at_most_0.001"].get<uint32_t>());
+  EXPECT_TRUE(doc["options"]["allow_invalid"].get<bool>());
+  std::filesystem::remove(in);
+  std::filesystem::remove(out);
+}
+
 TEST(Cli, RemeshFailureLeavesNoOutput) {
   const auto bad = write_temp("isoquad_cli_bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
   const auto out = std::filesystem::temp_directory_path() / "isoquad_cli_never.obj";
