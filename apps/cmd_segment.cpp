@@ -114,8 +114,9 @@ Runner add_segment(CLI::App& app) {
             c.report_index, seg.num_patches, seg.vsa_patches, mm.vertices.size(), mm.inserted,
             mm.edges.size(), mm.euler(), seg.repair.disconnected_split, seg.repair.pinches_fixed,
             seg.repair.voronoi_splits, seg.repair.two_path_cuts, seg.repair.islands_merged,
-            seg.repair.strips_cut, seg.repair.handles_cut, seg.repair.tiny_merged, seg.straighten.ears, seg.straighten.geodesic,
-            seg.straighten.seam_length_before, seg.straighten.seam_length_after);
+            seg.repair.strips_cut, seg.repair.handles_cut, seg.repair.tiny_merged,
+            seg.straighten.ears, seg.straighten.geodesic, seg.straighten.seam_length_before,
+            seg.straighten.seam_length_after);
       const TriMesh& rm = seg.refined.mesh;
       const uint32_t base = uint32_t(out.positions.size());
       for (const Vec3& p : rm.positions()) out.positions.push_back(prep.normalization.invert(p));

@@ -18,8 +18,7 @@ struct RemeshArgs {
   PatchArgs patch;
   bool json = false, quiet = false, improve_corners = true, no_untangle = false, no_snap = false,
        split_patches = false, no_tip_split = false, no_refine = false, no_patch_rounds = false,
-       no_misfit_split = false, allow_topology_change = false,
-       allow_invalid = false;
+       no_misfit_split = false, allow_topology_change = false, allow_invalid = false;
   uint32_t smooth = RemeshOptions{}.smooth, fold_rounds = RemeshOptions{}.fold_rounds, threads = 0;
   double tolerance = RemeshOptions{}.tolerance;
   uint32_t tolerance_rounds = RemeshOptions{}.tolerance_rounds;

@@ -712,7 +712,8 @@ TEST(Cli, RemeshWithNoValidAlternativeIsAnErrorUnlessAllowed) {
   EXPECT_NE(r.err.find("near input face"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("--allow-invalid"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
-  const CliRun kept = run("remesh -q --json --allow-invalid " + in.string() + " -o " + out.string());
+  const CliRun kept =
+      run("remesh -q --json --allow-invalid " + in.string() + " -o " + out.string());
   ASSERT_EQ(kept.status, 0) << kept.err;
   const auto doc = nlohmann::json::parse(kept.out);
   uint32_t said = 0;

@@ -8,10 +8,9 @@
 
 #include "core/refined_mesh.hpp"
 #include "corpus.hpp"
-#include "marching_tets.hpp"
-#include "stress_parametric.hpp"
 #include "io/read_mesh.hpp"
 #include "isoquad/error.hpp"
+#include "marching_tets.hpp"
 #include "prep/prepare.hpp"
 #include "seg/disk_patches.hpp"
 #include "seg/geodesic.hpp"
@@ -20,6 +19,7 @@
 #include "seg/vsa.hpp"
 #include "seg_checks.hpp"
 #include "shapes.hpp"
+#include "stress_parametric.hpp"
 
 using namespace isoquad;
 
@@ -173,8 +173,8 @@ FaceData<uint32_t> disk_patches_from_one(const TriMesh& m, DiskRepairLog& log) {
   const uint32_t n = make_disk_patches(m, labels, log);
   const auto topo = patch_topology(m, labels, n);
   for (uint32_t p = 0; p < n; ++p)
-    EXPECT_TRUE(topo[p].is_disk()) << "patch " << p << ": " << topo[p].boundary_loops
-                                   << " loops, euler " << topo[p].euler();
+    EXPECT_TRUE(topo[p].is_disk())
+        << "patch " << p << ": " << topo[p].boundary_loops << " loops, euler " << topo[p].euler();
   for (uint32_t v = 0; v < m.num_vertices(); ++v) {
     const auto w = wedges_at(m, labels, v);
     for (std::size_t i = 0; i < w.size(); ++i)
@@ -185,8 +185,7 @@ FaceData<uint32_t> disk_patches_from_one(const TriMesh& m, DiskRepairLog& log) {
 }
 
 TEST(Disk, SmallHoleGetsAStripToTheOuterLoop) {
-  const PreparedComponent c =
-      prepared(test::plate_with_holes(4, 4, {{{1.3, 2.2, 0.03}}}, 0.05), 0);
+  const PreparedComponent c = prepared(test::plate_with_holes(4, 4, {{{1.3, 2.2, 0.03}}}, 0.05), 0);
   ASSERT_EQ(c.mesh.boundary_loops().size(), 2u);
   DiskRepairLog log;
   disk_patches_from_one(c.mesh, log);
