@@ -200,7 +200,7 @@ MilpResult corner_ilp(const TriMesh& mesh, const MetaMesh& meta,
   // branch-and-bound nodes (a bound on effort that does not depend on the machine's speed), is
   // good enough; the feasibility-only choice is the fallback.
   if (feasible) return solve_milp(lp, o.time_limit, 0.05, 200);
-  return solve_milp(lp, o.time_limit, 0, kOptimalNodeLimit, false);
+  return solve_milp(lp, o.time_limit, 0, kOptimalNodeLimit);
 }
 
 }  // namespace

@@ -52,8 +52,8 @@ double since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-MilpResult solve_milp(const MilpProblem& p, double time_limit, double relative_gap, int node_limit,
-                      bool preprocess) {
+MilpResult solve_milp(const MilpProblem& p, double time_limit, double relative_gap,
+                      int node_limit) {
   const auto t0 = std::chrono::steady_clock::now();
   OsiClpSolverInterface solver;
   load(solver, p);
@@ -69,21 +69,9 @@ MilpResult solve_milp(const MilpProblem& p, double time_limit, double relative_g
   const std::string seconds = std::to_string(time_limit);
   const std::string gap = std::to_string(relative_gap);
   const std::string nodes = std::to_string(node_limit > 0 ? node_limit : 2147483647);
-  const char* argv[] = {"isoquad",
-                        "-log",
-                        "0",
-                        "-sec",
-                        seconds.c_str(),
-                        "-threads",
-                        "0",
-                        "-ratioGap",
-                        gap.c_str(),
-                        "-maxNodes",
-                        nodes.c_str(),
-                        "-preprocess",
-                        preprocess ? "on" : "off",
-                        "-solve",
-                        "-quit"};
+  const char* argv[] = {"isoquad",     "-log",        "0",         "-sec",      seconds.c_str(),
+                        "-threads",    "0",           "-ratioGap", gap.c_str(), "-maxNodes",
+                        nodes.c_str(), "-preprocess", "off",       "-solve",    "-quit"};
   CbcMain1(
       int(std::size(argv)), argv, model, [](CbcModel*, int) { return 0; }, data);
   MilpResult r;

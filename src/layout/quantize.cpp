@@ -273,7 +273,7 @@ MilpResult length_ilp(const std::vector<double>& c, const std::vector<SideRow>& 
                       double time_limit, bool bounded, const std::vector<SideMinimum>& minimums,
                       const std::vector<SideTarget>& dimensions) {
   return solve_milp(length_problem(c, rows, bounded, true, minimums, dimensions), time_limit, 0,
-                    kOptimalNodeLimit, false);
+                    kOptimalNodeLimit);
 }
 
 }  // namespace
