@@ -1,14 +1,23 @@
-// The measures a layout is judged by (issue 32), on small quad meshes whose values are known:
-// quads not valid against their own normal, aspect ratio, area spread, feature coverage.
+// The quality measures, on small quad meshes whose values are known: flips, non-manifold edges
+// and distance, the scaled Jacobian and the surface normal it is taken against, the spatial
+// index's queries, and the measures a layout is judged by (issue 32): quads not valid against
+// their own normal, aspect ratio, area spread, feature coverage.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <random>
+#include "corpus.hpp"
+#include "extract/snap.hpp"
+#include "io/read_mesh.hpp"
 #include "io/report_json.hpp"
+#include "isoquad/error.hpp"
 #include "metrics/aabb_tree.hpp"
 #include "metrics/feature_coverage.hpp"
 #include "metrics/quality.hpp"
+#include "prep/prepare.hpp"
 #include "shapes.hpp"
 
 using namespace isoquad;
@@ -209,4 +218,140 @@ TEST(QualityMeasures, HausdorffDistanceFoundWhereNoSampleIs) {
     EXPECT_FALSE(d.on_b);
     EXPECT_LT(norm(d.at - centre), 0.05) << samples;
   }
+}
+
+TEST(Quality, DetectsFlipsNonManifoldEdgesAndDistance) {
+  PolyMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 1, 0}};
+  m.add_face({0, 1, 2, 3});
+  m.add_face({1, 4, 5, 2});
+  QualityReport q = measure_quality(m, &m);
+  EXPECT_TRUE(q.pure_quad);
+  EXPECT_TRUE(q.edge_manifold && q.vertex_manifold && q.oriented);
+  EXPECT_EQ(q.topology.euler, 1);
+  EXPECT_EQ(q.topology.boundary_loops, 1u);
+  EXPECT_NEAR(q.sj_min, 1.0, 1e-12);
+  EXPECT_NEAR(q.hausdorff, 0.0, 1e-12);
+  // A bow-tie quad: its corners alternate orientation.
+  PolyMesh bow = m;
+  bow.positions[2] = {1, 1, 0};
+  bow.positions[5] = {1.5, -1, 0};
+  bow.positions[4] = {2, 1, 0};
+  q = measure_quality(bow, nullptr);
+  EXPECT_EQ(q.sj_nonpositive, 1u);
+  // A third face on edge 1-2: not manifold.
+  PolyMesh fin = m;
+  fin.positions.push_back({1, 0, 1});
+  fin.positions.push_back({1, 1, 1});
+  fin.add_face({1, 2, 7, 6});
+  q = measure_quality(fin, nullptr);
+  EXPECT_FALSE(q.edge_manifold);
+  // A copy shifted by 0.1 along z: one-sided distances 0.1 everywhere.
+  PolyMesh shifted = m;
+  for (Vec3& p : shifted.positions) p.z += 0.1;
+  q = measure_quality(shifted, &m);
+  EXPECT_NEAR(q.hausdorff * std::sqrt(5.0), 0.1, 1e-9);  // diagonal of 2 x 1 x 0 box
+  EXPECT_NEAR(q.mean_distance * std::sqrt(5.0), 0.1, 1e-9);
+  // One corner lifted by 0.3: the farthest point is that corner, on the quads' side.
+  PolyMesh lifted = m;
+  lifted.positions[4].z = 0.3;
+  q = measure_quality(lifted, &m);
+  EXPECT_FALSE(q.hausdorff_on_input);
+  EXPECT_LT(norm(q.hausdorff_at - lifted.positions[4]), 1e-12);
+  EXPECT_NEAR(q.hausdorff * std::sqrt(5.0), 0.3, 1e-9);
+}
+
+// One quad's scaled Jacobian against its own normal, as the report's per-quad value: 1 for a
+// square, sqrt(2)/2 at the 45-degree corners of a rhombus, negative at the reflex corner of a
+// dart, 0 where an edge has length 0.
+TEST(Quality, QuadScaledJacobian) {
+  EXPECT_NEAR(quad_scaled_jacobian({Vec3{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}), 1.0, 1e-12);
+  EXPECT_NEAR(quad_scaled_jacobian({Vec3{0, 0, 0}, {1, 0, 0}, {2, 1, 0}, {1, 1, 0}}),
+              std::sqrt(0.5), 1e-12);
+  EXPECT_LT(quad_scaled_jacobian({Vec3{0, 0, 0}, {2, 0, 0}, {0.5, 0.5, 0}, {0, 2, 0}}), 0.0);
+  EXPECT_EQ(quad_scaled_jacobian({Vec3{0, 0, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}}), 0.0);
+}
+
+TEST(Quality, SurfaceNormalAtCreaseCornersIsTakenOnTheQuadsSide) {
+  // The cube's 6 quads against its triangulation: every corner sits on a crease, where the
+  // nearest input face may lie on the other side; the normal is taken just inside the quad.
+  const PolyMesh quads = test::cube_quads();
+  const PolyMesh tris = test::subdivided_cube(1);
+  const QualityReport q = measure_quality(quads, &tris);
+  EXPECT_EQ(q.sj_surface_nonpositive, 0u);
+  EXPECT_NEAR(q.sj_surface_min, 1.0, 1e-12);
+  const std::vector<double> sj = surface_scaled_jacobians(quads, tris);
+  ASSERT_EQ(sj.size(), 6u);
+  for (const double s : sj) EXPECT_NEAR(s, 1.0, 1e-12);
+  // A quad turned inside out is folded against the surface.
+  PolyMesh flipped = quads;
+  const auto f0 = flipped.face(0);
+  std::vector<uint32_t> reversed(f0.rbegin(), f0.rend());
+  std::copy(reversed.begin(), reversed.end(), flipped.face_vertices.begin());
+  EXPECT_LT(surface_scaled_jacobians(flipped, tris)[0], 0.0);
+}
+
+// Where the closest surface point is on an edge (above a ridge) the normal is the mean of the
+// two faces' normals, whichever of them the search meets first; above one face, that face's.
+TEST(Quality, NormalAtAClosestEdgeIsTheMeanOfItsFaces) {
+  // A roof: two faces meeting along the x axis at 90 degrees, both facing up and outwards.
+  const Vec3 a{0, 0, 0}, b{1, 0, 0}, l{0, -1, -1}, r{0, 1, -1}, l2{1, -1, -1}, r2{1, 1, -1};
+  for (int order = 0; order < 2; ++order) {
+    std::vector<std::array<Vec3, 3>> tris = {{a, l, l2}, {a, l2, b}, {a, b, r2}, {a, r2, r}};
+    if (order) std::reverse(tris.begin(), tris.end());
+    const AabbTree tree(tris);
+    const Vec3 up = tree.normal_at_closest({0.5, 0, 0.3});
+    EXPECT_NEAR(up.x, 0, 1e-12);
+    EXPECT_NEAR(up.y, 0, 1e-12);
+    EXPECT_NEAR(up.z, 1, 1e-12);
+    const Vec3 side = tree.normal_at_closest({0.5, 0.5, -0.4});  // above the right face
+    EXPECT_NEAR(side.y, std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(side.z, std::sqrt(0.5), 1e-12);
+  }
+}
+
+// The tree searches nearer boxes first and prunes with the best distance so far; its answers
+// must be those of a scan of every triangle: the distance, and the normal averaged over every
+// triangle within the tolerance of it (in triangle order), so that untangling, snapping and
+// `isoquad quality` agree whatever the tree's layout. Fandisk has ridges and corners, where
+// several triangles are closest; the points are at and near its vertices, edges and faces.
+TEST(Quality, TreeQueriesEqualAScanOfEveryTriangle) {
+  const PreparedMesh prep = prepare(read_mesh(test::data_dir() / "fandisk.off").mesh);
+  const TriMesh& mesh = prep.components.at(0).mesh;
+  const std::vector<std::array<Vec3, 3>> tris = face_triangles(mesh);
+  const AabbTree tree(tris);
+  Box3 box;
+  for (const Vec3& p : mesh.positions()) box.add(p);
+  const double tol = 1e-9 * box.diagonal();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> offset(-0.02, 0.02);
+  uint32_t shared = 0;  // queries whose closest point is on several triangles
+  for (uint32_t i = 0; i < 600; ++i) {
+    const Tri& t = mesh.face(uint32_t(rng() % mesh.num_faces()));
+    const double w0 = (i % 3 == 0) ? 1.0 : 0.2, w1 = (i % 3 == 1) ? 0.0 : 0.3;  // vertex, edge
+    const Vec3 on =
+        w0 * mesh.position(t[0]) + w1 * mesh.position(t[1]) + (1 - w0 - w1) * mesh.position(t[2]);
+    // Half of the points on the surface (on a vertex or an edge: several triangles closest),
+    // half off it.
+    const double off = i % 2 ? box.diagonal() : 0.0;
+    const Vec3 p = on + off * Vec3{offset(rng), offset(rng), offset(rng)};
+    double best = INFINITY;
+    for (const auto& s : tris)
+      best = std::min(best, norm(closest_point_on_triangle(p, s[0], s[1], s[2]) - p));
+    EXPECT_EQ(tree.closest(p).distance, best);
+    Vec3 sum{0, 0, 0};
+    uint32_t within = 0;
+    for (const auto& s : tris)
+      if (norm(closest_point_on_triangle(p, s[0], s[1], s[2]) - p) <= best + tol) {
+        sum = sum + normalized(cross(s[1] - s[0], s[2] - s[0]));
+        ++within;
+      }
+    shared += within > 1;
+    const Vec3 n = tree.normal_at_closest(p), hinted = tree.normal_at_closest(p, t[0] % 7);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(n[k], normalized(sum)[k]) << "query " << i;
+      EXPECT_EQ(hinted[k], n[k]) << "query " << i;
+    }
+  }
+  EXPECT_GT(shared, 100u);  // the ties the averaging is for were exercised
 }
