@@ -27,6 +27,7 @@
 #include "pipeline/remesh.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
+#include "quad_checks.hpp"
 #include "report/report.hpp"
 #include "report_checks.hpp"
 
@@ -345,12 +346,7 @@ TEST_P(CorpusRemesh, ValidPureQuadMeshOfTheSameTopology) {
   EXPECT_EQ(int64_t(quads.num_faces()), promised);
   expect_lengths_near_targets(run);
   const QualityReport q = measure_quality(quads, &input.mesh);
-  EXPECT_TRUE(q.pure_quad);
-  EXPECT_TRUE(q.edge_manifold);
-  EXPECT_TRUE(q.vertex_manifold);
-  EXPECT_TRUE(q.oriented);
-  EXPECT_TRUE(q.same_topology) << "chi " << q.topology.euler << " vs "
-                               << q.reference_topology->euler;
+  test::expect_valid_quad_mesh(q);
   EXPECT_NEAR(double(quads.num_faces()), 1500.0, 150.0);
   expect_tip_split_kept_only_if_better(run, q, 1500);
   expect_patch_rounds_kept_only_if_better(run, 1500);
@@ -414,11 +410,7 @@ TEST_P(CorpusRemesh, DefaultSizeIsValid) {
   }
   expect_lengths_near_targets(run);
   const QualityReport q = measure_quality(quads, &input.mesh);
-  EXPECT_TRUE(q.pure_quad);
-  EXPECT_TRUE(q.edge_manifold);
-  EXPECT_TRUE(q.vertex_manifold);
-  EXPECT_TRUE(q.oriented);
-  EXPECT_TRUE(q.same_topology);
+  test::expect_valid_quad_mesh(q);
   EXPECT_GE(quads.num_faces(), 900u);
   expect_tip_split_kept_only_if_better(run, q, 0);
   expect_patch_rounds_kept_only_if_better(run, 0);
@@ -498,11 +490,7 @@ TEST(CorpusQuadSplit, FourSidedPatchesGiveAValidMesh) {
                   r.untangle_report.doublets;
     }
     const QualityReport q = measure_quality(run.result.quads, &input.mesh);
-    EXPECT_TRUE(q.pure_quad);
-    EXPECT_TRUE(q.edge_manifold);
-    EXPECT_TRUE(q.vertex_manifold);
-    EXPECT_TRUE(q.oriented);
-    EXPECT_TRUE(q.same_topology);
+    test::expect_valid_quad_mesh(q);
     expect_valid_against_own_normal(q, std::string(file) + " --split-patches", 1500);
     // The layout lands near the request; the repairs then add (splits at 180-degree crease
     // corners, of which four-sided patches have many: fandisk 29, +116 quads) or remove quads.

@@ -19,6 +19,7 @@
 #include "isoquad/error.hpp"
 #include "metrics/quality.hpp"
 #include "pipeline/remesh.hpp"
+#include "quad_checks.hpp"
 #include "stress_shapes.hpp"
 
 using namespace isoquad;
@@ -74,12 +75,7 @@ void expect_valid_remesh(const StressRun& r, uint32_t known_invalid, bool mean_b
   }
   const PolyMesh& quads = run.result.quads;
   const QualityReport q = measure_quality(quads, &input);
-  EXPECT_TRUE(q.pure_quad);
-  EXPECT_TRUE(q.edge_manifold);
-  EXPECT_TRUE(q.vertex_manifold);
-  EXPECT_TRUE(q.oriented);
-  EXPECT_TRUE(q.same_topology) << "chi " << q.topology.euler << ", " << q.topology.boundary_loops
-                               << " boundary loops, " << q.topology.components << " components";
+  test::expect_valid_quad_mesh(q);
   EXPECT_LE(q.sj_invalid, known_invalid)
       << "quads with scaled Jacobian <= 0.001 against their own normal "
       << "(min " << q.sj_min << ")";

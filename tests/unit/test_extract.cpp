@@ -12,6 +12,7 @@
 #include "pipeline/pipeline.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
+#include "quad_checks.hpp"
 #include "remesh_shape.hpp"
 #include "shapes.hpp"
 
@@ -87,11 +88,7 @@ TEST(Extract, CountsTopologyAndValencesFollowTheLayout) {
     EXPECT_EQ(r.quads.num_faces(), nq);
     const PolyMesh input = component_as_poly(r.prep.components[0].mesh);
     const QualityReport q = measure_quality(r.quads, &input);
-    EXPECT_TRUE(q.pure_quad);
-    EXPECT_TRUE(q.edge_manifold);
-    EXPECT_TRUE(q.vertex_manifold);
-    EXPECT_TRUE(q.oriented);
-    EXPECT_TRUE(q.same_topology);
+    expect_valid_quad_mesh(q);
     // Interior valences: a_v at the meta-vertices, 4 everywhere else.
     std::map<int, uint32_t> expected;
     uint32_t interior = 0;
@@ -136,11 +133,7 @@ CubeRefined refine_cube(const std::vector<uint32_t>& marked, uint32_t rounds = 1
 void expect_valid_on_cube(const CubeRefined& c, double sj) {
   const PolyMesh input = component_as_poly(c.r.prep.components[0].mesh);
   const QualityReport q = measure_quality(as_poly(c.quads), &input);
-  EXPECT_TRUE(q.pure_quad);
-  EXPECT_TRUE(q.edge_manifold);
-  EXPECT_TRUE(q.vertex_manifold);
-  EXPECT_TRUE(q.oriented);
-  EXPECT_TRUE(q.same_topology);
+  expect_valid_quad_mesh(q);
   EXPECT_GT(q.sj_min, sj);
   EXPECT_LT(q.hausdorff, 1e-9);
 }

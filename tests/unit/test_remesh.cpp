@@ -24,6 +24,7 @@
 #include "pipeline/remesh.hpp"
 #include "pipeline/sizing.hpp"
 #include "prep/prepare.hpp"
+#include "quad_checks.hpp"
 #include "remesh_shape.hpp"
 #include "shapes.hpp"
 
@@ -303,11 +304,7 @@ TEST(Remesh, ComponentsAreRemeshedApartAndMerged) {
   ASSERT_EQ(run.runs.size(), 3u);
   const PolyMesh& quads = run.result.quads;
   const QualityReport q = measure_quality(quads, &input);
-  EXPECT_TRUE(q.pure_quad);
-  EXPECT_TRUE(q.edge_manifold);
-  EXPECT_TRUE(q.vertex_manifold);
-  EXPECT_TRUE(q.oriented);
-  EXPECT_TRUE(q.same_topology);
+  expect_valid_quad_mesh(q);
   EXPECT_EQ(q.topology.components, 3u);
   EXPECT_EQ(q.topology.euler, 3);
   EXPECT_EQ(q.topology.boundary_loops, 1u);
