@@ -39,10 +39,9 @@ struct MilpResult {
 // Branch and bound with CBC; stops once within `relative_gap` of the bound (0: proven optimal)
 // or after `node_limit` nodes (0: none). Single thread, so deterministic unless `time_limit`
 // (a safety net, in seconds) is reached: callers that need a bounded effort use the node limit.
-// CBC's integer preprocessing is off: on the layout's programs it costs more than it saves
-// (fandisk at 1,500 quads: the length ILP 11.6 -> 8.4 ms, the corner ILP 12.5 -> 8 ms), and on
-// the big-M rows of the feasibility-aware corner programs its probing took seconds (the cow's
-// field layout at 1,500 quads: 17 s -> 2 s).
+// CBC's integer preprocessing is off: on the layout's small programs it costs more than it
+// saves, and on the big-M rows of the feasibility-aware corner programs its probing takes
+// seconds where the search itself takes tenths (docs/benchmarks.md, BM_FieldLayout).
 // The node bound of a solve that is to be optimal: reached, the best solution found is taken.
 constexpr int kOptimalNodeLimit = 20000;
 MilpResult solve_milp(const MilpProblem& problem, double time_limit = 10.0,
